@@ -1,0 +1,135 @@
+//! Bit-exact models of the float32 units in `rtl/fp/`.
+//!
+//! The RTL offers each multi-cycle unit in several [`Method`]s. A correctly
+//! rounded method is, by definition, bit-identical to the native f32 operation,
+//! so its model *is* the native operation. The approximate methods are modelled
+//! here integer step by integer step, mirroring the Verilog register by
+//! register, so that their results (including where they are off by one ULP)
+//! are reproduced bit for bit.
+//!
+//! NaN results of the RTL are always the canonical quiet NaN
+//! [`CANONICAL_NAN`]; compare floats with [`ulp::UlpDistance`], which treats
+//! every NaN as equal to every other NaN.
+
+mod recip;
+mod round;
+mod sqrt;
+pub mod ulp;
+mod unpack;
+
+pub use ulp::{ulp_distance, UlpDistance};
+
+/// The quiet NaN every RTL float unit returns for an invalid operation or a
+/// NaN operand.
+pub const CANONICAL_NAN: u32 = 0x7FC0_0000;
+
+/// How a multi-cycle float unit (reciprocal, square root) computes its result.
+///
+/// Mirrors the `METHOD` parameter of `fp_recip` and `fp_sqrt`; the numeric
+/// codes live in `rtl/fp/fp_defs.vh` (`FP_METHOD_*`) and the root crate's build
+/// script checks that both sides agree.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Method {
+    /// Correctly rounded (round to nearest even): bit-identical to `1.0 / x`
+    /// and `x.sqrt()`. Seed table + one Newton-Raphson step + an exact
+    /// remainder check that fixes the last bits.
+    Exact,
+    /// Seed table + one Newton-Raphson step, rounded directly: at most 1 ULP
+    /// from the correctly rounded result, one cycle faster than [`Method::Exact`].
+    Fast,
+}
+
+impl Method {
+    /// Every method, in the order tables and charts list them.
+    pub const ALL: [Method; 2] = [Method::Exact, Method::Fast];
+
+    /// The lower-case name used on the command line and in docs.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Method::Exact => "exact",
+            Method::Fast => "fast",
+        }
+    }
+
+    /// The code of this method in `rtl/fp/fp_defs.vh` (`FP_METHOD_EXACT`,
+    /// `FP_METHOD_FAST`).
+    pub const fn code(self) -> u32 {
+        match self {
+            Method::Exact => 0,
+            Method::Fast => 1,
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// `fp_add`: correctly rounded, so the model is the native operation.
+#[inline]
+pub fn add(a: f32, b: f32) -> f32 {
+    a + b
+}
+
+/// `fp_mul`: correctly rounded, so the model is the native operation.
+#[inline]
+pub fn mul(a: f32, b: f32) -> f32 {
+    a * b
+}
+
+/// `fp_itof`: signed 32-bit integer to float, round to nearest even.
+#[inline]
+pub fn itof(a: i32) -> f32 {
+    a as f32
+}
+
+/// `fp_recip` with the given method: `1 / a`.
+#[inline]
+pub fn recip(a: f32, method: Method) -> f32 {
+    match method {
+        Method::Exact => 1.0 / a,
+        Method::Fast => f32::from_bits(recip::recip_bits(a.to_bits(), Method::Fast)),
+    }
+}
+
+/// `fp_sqrt` with the given method: `sqrt(a)`.
+#[inline]
+pub fn sqrt(a: f32, method: Method) -> f32 {
+    match method {
+        Method::Exact => a.sqrt(),
+        Method::Fast => f32::from_bits(sqrt::sqrt_bits(a.to_bits(), Method::Fast)),
+    }
+}
+
+/// The integer datapath of `fp_recip`, for either method, exactly as the RTL
+/// computes it. For [`Method::Exact`] it equals `1.0 / a` on every input
+/// (checked exhaustively by `golden`'s ignored tests); [`recip`] uses the
+/// native division for that method because it is the definition.
+pub fn recip_datapath(a: u32, method: Method) -> u32 {
+    recip::recip_bits(a, method)
+}
+
+/// The integer datapath of `fp_sqrt`, for either method; see [`recip_datapath`].
+pub fn sqrt_datapath(a: u32, method: Method) -> u32 {
+    sqrt::sqrt_bits(a, method)
+}
+
+/// Cycles from the clock edge that samples `in_valid` to the edge after which
+/// `out_valid` is high, for `fp_recip`. The latency does not depend on the
+/// operand.
+pub const fn recip_latency(method: Method) -> u32 {
+    match method {
+        Method::Exact => 5,
+        Method::Fast => 4,
+    }
+}
+
+/// Latency of `fp_sqrt` in cycles; see [`recip_latency`].
+pub const fn sqrt_latency(method: Method) -> u32 {
+    match method {
+        Method::Exact => 7,
+        Method::Fast => 6,
+    }
+}
