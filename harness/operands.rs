@@ -1,0 +1,204 @@
+//! Operands for the float units: TestFloat-style edge cases and seeded random
+//! streams that favour the places where float hardware goes wrong.
+//!
+//! Every random stream is a pure function of `(seed, chunk index)`, so a run
+//! is reproducible whatever the thread count, and a failing chunk can be
+//! replayed alone.
+
+use crate::fp_unit::UnitKind;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Operands per chunk of a random or exhaustive stream.
+pub const CHUNK: usize = 1 << 16;
+
+/// Magnitudes (bit patterns, sign clear) that float units get wrong first.
+const EDGE_MAGNITUDES: &[u32] = &[
+    0x0000_0000, // zero
+    0x0000_0001, // min subnormal
+    0x0000_0002,
+    0x0000_0003,
+    0x0040_0000, // half the min normal
+    0x007F_FFFF, // max subnormal
+    0x0080_0000, // min normal
+    0x0080_0001,
+    0x00FF_FFFF,
+    0x0100_0000,
+    0x0D00_0000, // products land near the underflow threshold
+    0x1F80_0000, // 2^-64: squares to 2^-128 (subnormal)
+    0x2000_0000,
+    0x3380_0000, // 2^-24: 1 + this is a rounding tie
+    0x3380_0001,
+    0x337F_FFFF,
+    0x3400_0000, // 2^-23: one ULP of 1.0
+    0x3DCC_CCCD, // 0.1
+    0x3F00_0000, // 0.5
+    0x3F35_04F3, // 1/sqrt(2)
+    0x3F7F_FFFF, // 1 - 2^-24
+    0x3F80_0000, // 1.0
+    0x3F80_0001, // 1 + 2^-23
+    0x3FAA_AAAB, // 4/3: alternating mantissa
+    0x3FB5_04F3, // sqrt(2)
+    0x3FC0_0000, // 1.5
+    0x3FD5_5555,
+    0x3FFF_FFFF, // 2 - 2^-23: mantissa of all ones
+    0x4000_0000, // 2.0
+    0x4040_0000, // 3.0
+    0x4049_0FDB, // pi
+    0x4B7F_FFFF, // 2^24 - 1
+    0x4B80_0000, // 2^24: where integers stop being exact
+    0x4B80_0001,
+    0x5F80_0000, // 2^64: squares to 2^128 (overflow)
+    0x7E80_0000, // 2^126
+    0x7EFF_FFFF,
+    0x7F00_0000, // 2^127
+    0x7F7F_FFFE,
+    0x7F7F_FFFF, // max normal
+    0x7F80_0000, // infinity
+    0x7F80_0001, // signalling NaN
+    0x7FC0_0000, // quiet NaN
+    0x7FFF_FFFF,
+];
+
+/// Integers that stress `fp_itof`: exactness limits and rounding ties.
+const EDGE_INTEGERS: &[i32] = &[
+    0,
+    1,
+    2,
+    3,
+    0x00FF_FFFF,
+    0x0100_0000,
+    0x0100_0001, // tie, rounds to even (down)
+    0x0100_0003, // tie, rounds to even (up)
+    0x0200_0002,
+    0x0200_0006,
+    0x7FFF_FF7F,
+    0x7FFF_FFC0, // tie at the top
+    0x7FFF_FFFF,
+    i32::MIN,
+    i32::MIN + 1,
+];
+
+/// The edge magnitudes with both signs and their bit-pattern neighbours.
+pub fn edge_values() -> Vec<u32> {
+    let mut values: Vec<u32> = EDGE_MAGNITUDES
+        .iter()
+        .flat_map(|&m| [m, m.wrapping_add(1) & 0x7FFF_FFFF, m.wrapping_sub(1) & 0x7FFF_FFFF])
+        .flat_map(|m| [m, m | 0x8000_0000])
+        .collect();
+    values.sort_unstable();
+    values.dedup();
+    values
+}
+
+/// Edge-case operands for `kind`: every ordered pair of [`edge_values`] for
+/// binary units; the edge values (and, for `fp_itof`, the edge integers with
+/// both signs) for unary ones. `b` is empty for unary units.
+pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
+    let values = edge_values();
+    if kind.is_binary() {
+        let a = values.iter().flat_map(|&x| values.iter().map(move |_| x)).collect();
+        let b = values.iter().flat_map(|_| values.iter().copied()).collect();
+        return (a, b);
+    }
+    let mut a = values;
+    if kind == UnitKind::Itof {
+        a.extend(EDGE_INTEGERS.iter().flat_map(|&i| [i as u32, i.wrapping_neg() as u32]));
+    }
+    (a, Vec::new())
+}
+
+/// A float with a sign, an exponent drawn from the whole range or from its
+/// edges, and a mantissa drawn uniformly or from patterns (all ones, all
+/// zeros, a single bit, a run of ones) that exercise carries and ties.
+fn structured(rng: &mut ChaCha8Rng) -> u32 {
+    let sign = (rng.random::<bool>() as u32) << 31;
+    let exp: u32 = match rng.random_range(0..4) {
+        0 => rng.random_range(0..=255),
+        1 => rng.random_range(0..=3),
+        2 => rng.random_range(120..=134),
+        _ => rng.random_range(250..=255),
+    };
+    let mantissa: u32 = match rng.random_range(0..6) {
+        0 | 1 => rng.random::<u32>(),
+        2 => u32::MAX,
+        3 => 0,
+        4 => 1 << rng.random_range(0..23),
+        _ => {
+            let lo = rng.random_range(0..23);
+            let hi = rng.random_range(lo..23);
+            ((1u32 << (hi + 1)) - 1) & !((1u32 << lo) - 1)
+        }
+    };
+    sign | exp << 23 | (mantissa & 0x7F_FFFF)
+}
+
+/// A second operand related to `a` so that the pair is hard: exponents close
+/// (alignment, cancellation), `b` within a few ULPs of `-a` (massive
+/// cancellation), or exponents summing to the edge of the range (products
+/// that underflow or overflow).
+fn partner(rng: &mut ChaCha8Rng, a: u32) -> u32 {
+    let a_exp = (a >> 23) & 0xFF;
+    match rng.random_range(0..5) {
+        0 => rng.random(),
+        1 => structured(rng),
+        2 => {
+            let exp = (a_exp as i32 + rng.random_range(-3..=3)).clamp(0, 254) as u32;
+            (rng.random::<u32>() & 0x807F_FFFF) | exp << 23
+        }
+        3 => (a ^ 0x8000_0000).wrapping_add(rng.random_range(0..8)).wrapping_sub(4),
+        _ => {
+            // a_exp + b_exp - 127 near 0 or 254.
+            let target: i32 = if rng.random() { rng.random_range(-25..=3) } else { rng.random_range(250..=258) };
+            let exp = (target + 127 - a_exp as i32).clamp(0, 254) as u32;
+            (rng.random::<u32>() & 0x807F_FFFF) | exp << 23
+        }
+    }
+}
+
+/// Chunk `index` of the random operand stream `seed` for `kind`: `len`
+/// operands (`b` empty for unary units). Half uniform random bits, half
+/// [`structured`]; binary units pair them with [`partner`]s.
+pub fn random_chunk(kind: UnitKind, seed: u64, index: u64, len: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(index);
+    let mut a = Vec::with_capacity(len);
+    let mut b = Vec::with_capacity(if kind.is_binary() { len } else { 0 });
+    for _ in 0..len {
+        let x = if rng.random() { rng.random() } else { structured(&mut rng) };
+        a.push(x);
+        if kind.is_binary() {
+            b.push(partner(&mut rng, x));
+        }
+    }
+    (a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edge_values_cover_both_signs_and_the_specials() {
+        let v = edge_values();
+        for bits in [0x0000_0000, 0x8000_0000, 0x0000_0001, 0x7F80_0000, 0xFF80_0000, 0x7FC0_0000] {
+            assert!(v.contains(&bits), "{bits:#010x} missing");
+        }
+    }
+
+    #[test]
+    fn binary_edge_cases_are_all_ordered_pairs() {
+        let n = edge_values().len();
+        let (a, b) = edge_cases(UnitKind::Add);
+        assert_eq!((a.len(), b.len()), (n * n, n * n));
+        assert_eq!((a[1], b[1]), (edge_values()[0], edge_values()[1]));
+    }
+
+    #[test]
+    fn random_chunks_are_reproducible_and_distinct() {
+        let one = random_chunk(UnitKind::Mul, 7, 3, 100);
+        assert_eq!(one, random_chunk(UnitKind::Mul, 7, 3, 100));
+        assert_ne!(one, random_chunk(UnitKind::Mul, 7, 4, 100));
+        assert_ne!(one, random_chunk(UnitKind::Mul, 8, 3, 100));
+    }
+}
