@@ -43,6 +43,11 @@ fn run() -> Result<(), String> {
     let out = PathBuf::from(env::var("OUT_DIR").map_err(|e| e.to_string())?);
     let verilator = find_verilator()?;
     println!("cargo:rustc-env=RTCOSIM_VERILATOR_VERSION={}", verilator.version);
+    // For the lint test, which runs the same Verilator the models were built with.
+    println!("cargo:rustc-env=RTCOSIM_VERILATOR_BIN={}", verilator.bin.display());
+    // Only a VERILATOR_ROOT the user set is passed on: Debian's verilator
+    // breaks when given its own root (its binaries live elsewhere).
+    println!("cargo:rustc-env=RTCOSIM_VERILATOR_ROOT={}", env::var("VERILATOR_ROOT").unwrap_or_default());
 
     let fp_dir = manifest.join("rtl/fp");
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
@@ -86,38 +91,61 @@ fn run() -> Result<(), String> {
     }
 
     let include = verilator.root.join("include");
-    let mut build = cxx_build::bridge("harness/bridge.rs");
-    build
+    let model_dirs: Vec<PathBuf> = models.iter().map(|m| out.join(&m.prefix)).collect();
+    let common = |build: &mut cc::Build| {
+        build
+            .cpp(true)
+            .std("c++17")
+            // Verilator's headers as system headers: their warnings are not ours.
+            .flag("-isystem")
+            .flag(include.to_string_lossy().as_ref())
+            .flag("-isystem")
+            .flag(include.join("vltstd").to_string_lossy().as_ref())
+            .includes(&model_dirs)
+            .include(manifest.join("harness/cpp"))
+            // Verilated models are hopeless unoptimized; debug builds want them fast too.
+            .opt_level(2)
+            .debug(false)
+            // A fatal error inside a model becomes a C++ exception, then a Rust error.
+            .define("VL_USER_FATAL", None)
+            .define("VL_USER_STOP", None)
+            .define("VL_USER_FINISH", None);
+    };
+
+    // Our C++: the bridge and the drivers, with warnings on. Compiled (and so
+    // linked) first, because it calls into the models below.
+    let mut bridge = cxx_build::bridge("harness/bridge.rs");
+    common(&mut bridge);
+    bridge.file("harness/cpp/fp_units.cpp").compile("rtcosim_bridge");
+
+    // Verilator's generated code and runtime, plus the fatal-error hooks the
+    // runtime calls: not ours to warn about.
+    let mut verilated = cc::Build::new();
+    common(&mut verilated);
+    verilated
         .files(&model_files)
         .files(&globals)
-        .file("harness/cpp/fp_units.cpp")
-        .include(&include)
-        .include(include.join("vltstd"))
-        .include(manifest.join("harness/cpp"))
-        .std("c++17")
-        // Verilated models are hopeless unoptimized; debug builds want them fast too.
-        .opt_level(2)
-        .debug(false)
-        // A fatal error inside a model becomes a C++ exception, then a Rust error.
-        .define("VL_USER_FATAL", None)
-        .define("VL_USER_STOP", None)
-        .define("VL_USER_FINISH", None)
-        .flag_if_supported("-Wno-unused-parameter")
-        .flag_if_supported("-Wno-unused-variable")
-        .flag_if_supported("-Wno-sign-compare")
-        .flag_if_supported("-Wno-shadow");
-    for m in &models {
-        build.include(out.join(&m.prefix));
-    }
-    build.compile("rtcosim_models");
+        .file("harness/cpp/vl_user.cpp")
+        .warnings(false)
+        .cargo_warnings(false)
+        .compile("rtcosim_verilated");
     Ok(())
 }
 
 fn find_verilator() -> Result<Verilator, String> {
-    let from_root = env::var_os("VERILATOR_ROOT").map(|root| PathBuf::from(root).join("bin/verilator"));
-    let bin = match from_root {
-        Some(bin) if bin.exists() => bin,
-        _ => PathBuf::from("verilator"),
+    let bin = match env::var_os("VERILATOR_ROOT") {
+        Some(root) => {
+            let bin = PathBuf::from(&root).join("bin/verilator");
+            if !bin.exists() {
+                return Err(format!(
+                    "VERILATOR_ROOT is {}, but it has no bin/verilator. Point it at a Verilator 5 \
+                     installation, or unset it to use `verilator` on PATH.",
+                    PathBuf::from(root).display()
+                ));
+            }
+            bin
+        }
+        None => PathBuf::from("verilator"),
     };
     let version = Command::new(&bin).arg("--version").output();
     let version = match version {

@@ -152,6 +152,17 @@ impl FpUnit {
     ///
     /// After an error the model's state is unknown, so later calls fail too.
     pub fn eval(&mut self, a: &[u32], b: &[u32]) -> Result<(Vec<u32>, Vec<u32>), UnitError> {
+        self.eval_with_timeout(a, b, DEFAULT_TIMEOUT_CYCLES)
+    }
+
+    /// [`FpUnit::eval`], with a multi-cycle unit counting as hung when it has
+    /// not raised `out_valid` after `timeout_cycles` clock edges.
+    pub fn eval_with_timeout(
+        &mut self,
+        a: &[u32],
+        b: &[u32],
+        timeout_cycles: u32,
+    ) -> Result<(Vec<u32>, Vec<u32>), UnitError> {
         let err = |message: String| UnitError::Eval { unit: self.kind, message };
         if self.poisoned {
             return Err(err("an earlier error left the model in an unknown state".into()));
@@ -162,7 +173,7 @@ impl FpUnit {
         let mut y = vec![0; a.len()];
         let mut cycles = vec![0; a.len()];
         let b = if self.kind.is_binary() { b } else { a };
-        let result = self.inner.pin_mut().eval(a, b, &mut y, &mut cycles, DEFAULT_TIMEOUT_CYCLES);
+        let result = self.inner.pin_mut().eval(a, b, &mut y, &mut cycles, timeout_cycles);
         if let Err(e) = result {
             self.poisoned = true;
             return Err(err(e.what().to_string()));

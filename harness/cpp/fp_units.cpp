@@ -20,19 +20,6 @@
 #include "Vfp_sqrt_exact.h"
 #include "Vfp_sqrt_fast.h"
 
-// Verilator calls these instead of printing and calling abort() (build.rs
-// defines VL_USER_FATAL/STOP/FINISH): the exception reaches Rust as an Err.
-void vl_fatal(const char* filename, int linenum, const char* hier, const char* msg) {
-    throw std::runtime_error(std::string("verilated model fatal error at ") + (filename ? filename : "?") + ":" +
-                             std::to_string(linenum) + " (" + (hier ? hier : "") + "): " + (msg ? msg : ""));
-}
-void vl_stop(const char* filename, int linenum, const char* hier) {
-    vl_fatal(filename, linenum, hier, "$stop");
-}
-void vl_finish(const char* filename, int linenum, const char* hier) {
-    vl_fatal(filename, linenum, hier, "$finish");
-}
-
 namespace rtcosim {
 namespace {
 
