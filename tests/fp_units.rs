@@ -14,13 +14,21 @@ const SEED: u64 = 0x2011_0607;
 const RANDOM_OPERANDS: u64 = 1_000_000;
 
 fn assert_agrees(report: &CheckReport, expected_operands: u64) {
-    assert_eq!(report.operands, expected_operands, "{}: operand count", report.unit);
+    assert_eq!(
+        report.operands, expected_operands,
+        "{}: operand count",
+        report.unit
+    );
     assert_eq!(
         report.mismatches, 0,
         "{}: {} mismatches, first: {:#?}",
         report.unit, report.mismatches, report.first_mismatches
     );
-    assert_eq!(report.latency_violations, 0, "{}: cycles {:?}", report.unit, report.cycles);
+    assert_eq!(
+        report.latency_violations, 0,
+        "{}: cycles {:?}",
+        report.unit, report.cycles
+    );
     let latency = report.unit.latency();
     assert_eq!(report.cycles, Some((latency, latency)), "{}", report.unit);
 }
@@ -32,11 +40,26 @@ fn edge_cases_agree(kind: UnitKind) -> Result<(), UnitError> {
 }
 
 fn random_operands_agree(kind: UnitKind) -> Result<(), UnitError> {
-    let report = fp_check::run(kind, Operands::Random { seed: SEED, count: RANDOM_OPERANDS }, &|_| {})?;
+    let report = fp_check::run(
+        kind,
+        Operands::Random {
+            seed: SEED,
+            count: RANDOM_OPERANDS,
+        },
+        &|_| {},
+    )?;
     assert_agrees(&report, RANDOM_OPERANDS);
     // Correctly rounded units and methods are exact; the fast methods promise 1 ULP.
-    let bound = if kind.method() == Some(Method::Fast) { 1 } else { 0 };
-    assert!(report.worst_error.within(bound), "{kind}: worst error {}", report.worst_error);
+    let bound = if kind.method() == Some(Method::Fast) {
+        1
+    } else {
+        0
+    };
+    assert!(
+        report.worst_error.within(bound),
+        "{kind}: worst error {}",
+        report.worst_error
+    );
     Ok(())
 }
 
@@ -72,14 +95,14 @@ fn eval_one(kind: UnitKind, a: u32, b: u32) -> Result<u32, UnitError> {
 fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
     // Pinned from IEEE-754, not from the code under test.
     let cases: &[(UnitKind, u32, u32, u32)] = &[
-        (UnitKind::Add, 0x3F80_0000, 0xBF80_0000, 0x0000_0000),  // 1 + -1 = +0
-        (UnitKind::Add, 0x8000_0000, 0x8000_0000, 0x8000_0000),  // -0 + -0 = -0
-        (UnitKind::Add, 0x3F80_0000, 0x3380_0000, 0x3F80_0000),  // 1 + 2^-24: tie to even
-        (UnitKind::Add, 0x3F80_0001, 0x3380_0000, 0x3F80_0002),  // tie from odd rounds up
-        (UnitKind::Add, 0x0080_0000, 0x8000_0001, 0x007F_FFFF),  // min normal - min subnormal
-        (UnitKind::Mul, 0x7F7F_FFFF, 0x4000_0000, 0x7F80_0000),  // overflow to infinity
-        (UnitKind::Mul, 0x0080_0000, 0x3F00_0000, 0x0040_0000),  // min normal / 2: subnormal
-        (UnitKind::Itof, 0x0100_0001, 0, 0x4B80_0000),           // 2^24 + 1: tie to even
+        (UnitKind::Add, 0x3F80_0000, 0xBF80_0000, 0x0000_0000), // 1 + -1 = +0
+        (UnitKind::Add, 0x8000_0000, 0x8000_0000, 0x8000_0000), // -0 + -0 = -0
+        (UnitKind::Add, 0x3F80_0000, 0x3380_0000, 0x3F80_0000), // 1 + 2^-24: tie to even
+        (UnitKind::Add, 0x3F80_0001, 0x3380_0000, 0x3F80_0002), // tie from odd rounds up
+        (UnitKind::Add, 0x0080_0000, 0x8000_0001, 0x007F_FFFF), // min normal - min subnormal
+        (UnitKind::Mul, 0x7F7F_FFFF, 0x4000_0000, 0x7F80_0000), // overflow to infinity
+        (UnitKind::Mul, 0x0080_0000, 0x3F00_0000, 0x0040_0000), // min normal / 2: subnormal
+        (UnitKind::Itof, 0x0100_0001, 0, 0x4B80_0000),          // 2^24 + 1: tie to even
         (UnitKind::Recip(Method::Exact), 0x0000_0000, 0, 0x7F80_0000), // 1 / +0 = +inf
         (UnitKind::Recip(Method::Exact), 0xFF80_0000, 0, 0x8000_0000), // 1 / -inf = -0
         (UnitKind::Recip(Method::Exact), 0x7F00_0000, 0, 0x0040_0000), // 1 / 2^127 = 2^-127 = 2^22 * 2^-149
@@ -87,7 +110,7 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         (UnitKind::Sqrt(Method::Exact), 0x4080_0000, 0, 0x4000_0000),  // sqrt(4) = 2
         (UnitKind::Sqrt(Method::Exact), 0x8000_0000, 0, 0x8000_0000),  // sqrt(-0) = -0
         (UnitKind::Sqrt(Method::Exact), 0x0000_0001, 0, 0x1A35_04F3),  // sqrt(2^-149)
-        (UnitKind::Sqrt(Method::Fast), 0x3F80_0000, 0, 0x3F80_0000),   // sqrt(1) = 1, even when fast
+        (UnitKind::Sqrt(Method::Fast), 0x3F80_0000, 0, 0x3F80_0000), // sqrt(1) = 1, even when fast
     ];
     for &(kind, a, b, want) in cases {
         let y = eval_one(kind, a, b)?;
@@ -102,7 +125,10 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
     ];
     for &(kind, a, b) in nans {
         let y = eval_one(kind, a, b)?;
-        assert!(f32::from_bits(y).is_nan(), "{kind}({a:#010x}, {b:#010x}) = {y:#010x}");
+        assert!(
+            f32::from_bits(y).is_nan(),
+            "{kind}({a:#010x}, {b:#010x}) = {y:#010x}"
+        );
     }
     Ok(())
 }
@@ -113,7 +139,11 @@ fn checker_reports_every_operand_a_faulty_golden_model_gets_wrong() -> Result<()
     // sum whose first operand has an odd mantissa.
     let faulty = |a: u32, b: u32| {
         let sum = golden::fp::add(f32::from_bits(a), f32::from_bits(b)).to_bits();
-        if a & 1 == 1 && !f32::from_bits(sum).is_nan() { sum ^ 1 } else { sum }
+        if a & 1 == 1 && !f32::from_bits(sum).is_nan() {
+            sum ^ 1
+        } else {
+            sum
+        }
     };
     let (a, b) = operands::random_chunk(UnitKind::Add, SEED, 0, 10_000);
     let expected = a
@@ -123,7 +153,10 @@ fn checker_reports_every_operand_a_faulty_golden_model_gets_wrong() -> Result<()
         .count() as u64;
     let mut unit = FpUnit::new(UnitKind::Add)?;
     let report = check_batch(&mut unit, &faulty, &a, &b)?;
-    assert!(expected > 1000, "the fault must hit many operands, hit {expected}");
+    assert!(
+        expected > 1000,
+        "the fault must hit many operands, hit {expected}"
+    );
     assert_eq!(report.mismatches, expected);
     assert!(!report.passed());
     let first = report.first_mismatches[0];
@@ -141,8 +174,15 @@ fn checker_tells_the_fast_reciprocal_from_the_exact_one() -> Result<(), UnitErro
     let (a, _) = operands::random_chunk(UnitKind::Recip(Method::Fast), SEED, 0, 20_000);
     let mut unit = FpUnit::new(UnitKind::Recip(Method::Fast))?;
     let report = check_batch(&mut unit, &exact, &a, &[])?;
-    assert!(report.mismatches > 100, "only {} mismatches", report.mismatches);
-    assert!(report.first_mismatches.iter().all(|m| m.distance == UlpDistance::Ulps(1)));
+    assert!(
+        report.mismatches > 100,
+        "only {} mismatches",
+        report.mismatches
+    );
+    assert!(report
+        .first_mismatches
+        .iter()
+        .all(|m| m.distance == UlpDistance::Ulps(1)));
     assert_eq!(report.worst_error, UlpDistance::Ulps(1));
     Ok(())
 }
@@ -154,7 +194,10 @@ fn a_unit_that_does_not_answer_in_time_is_an_error_naming_the_operand() -> Resul
     let err = unit.eval_with_timeout(&[0x4080_0000], &[], 3).unwrap_err();
     let message = err.to_string();
     assert!(message.contains("fp_sqrt(exact)"), "{message}");
-    assert!(message.contains("no out_valid within 3 cycles"), "{message}");
+    assert!(
+        message.contains("no out_valid within 3 cycles"),
+        "{message}"
+    );
     assert!(message.contains("0x40800000"), "{message}");
     // The model's state is unknown after that: refuse to go on.
     let again = unit.eval(&[0x4080_0000], &[]).unwrap_err().to_string();
@@ -172,7 +215,9 @@ fn operand_slices_of_different_lengths_are_an_error() -> Result<(), UnitError> {
 
 #[test]
 fn an_exhaustive_sweep_of_a_binary_unit_is_refused() {
-    let err = fp_check::run(UnitKind::Add, Operands::Exhaustive, &|_| {}).unwrap_err().to_string();
+    let err = fp_check::run(UnitKind::Add, Operands::Exhaustive, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("needs a unary unit"), "{err}");
 }
 
@@ -183,13 +228,19 @@ fn an_exhaustive_sweep_of_a_binary_unit_is_refused() {
 fn long_sweep_finds_no_mismatch() -> Result<(), UnitError> {
     for kind in UnitKind::ALL {
         let source = if kind.is_binary() {
-            Operands::Random { seed: SEED + 1, count: 100_000_000 }
+            Operands::Random {
+                seed: SEED + 1,
+                count: 100_000_000,
+            }
         } else {
             Operands::Exhaustive
         };
         let report = fp_check::run(kind, source, &|_| {})?;
         assert_agrees(&report, source.count(kind));
-        eprintln!("{kind}: {} operands, 0 mismatches, worst error {}", report.operands, report.worst_error);
+        eprintln!(
+            "{kind}: {} operands, 0 mismatches, worst error {}",
+            report.operands, report.worst_error
+        );
     }
     Ok(())
 }

@@ -26,7 +26,10 @@ fn lint(top: &str, params: &[&str]) {
         .output()
         .expect("running verilator");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success() && stderr.trim().is_empty(), "lint of {top} {params:?}:\n{stderr}");
+    assert!(
+        out.status.success() && stderr.trim().is_empty(),
+        "lint of {top} {params:?}:\n{stderr}"
+    );
 }
 
 #[test]

@@ -103,7 +103,11 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
     println!(
         "rtcosim fp-check: {} units, {}, seed {}, {} threads, {}",
         units.len(),
-        if args.exhaustive { "all 2^32 inputs (unary)".to_string() } else { format!("{} random operands", args.count) },
+        if args.exhaustive {
+            "all 2^32 inputs (unary)".to_string()
+        } else {
+            format!("{} random operands", args.count)
+        },
         args.seed,
         rayon::current_num_threads(),
         rtcosim::VERILATOR_VERSION
@@ -119,7 +123,10 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
         let random = if args.exhaustive && !kind.is_binary() {
             Operands::Exhaustive
         } else {
-            Operands::Random { seed: args.seed, count: args.count }
+            Operands::Random {
+                seed: args.seed,
+                count: args.count,
+            }
         };
         let edge = fp_check::run(kind, Operands::Edge, &|_| {})?;
         let bar = ProgressBar::new(random.count(kind)).with_style(
@@ -151,7 +158,14 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
         }
     }
     println!();
-    println!("{}", if all_passed { "all units agree with golden::fp" } else { "MISMATCHES FOUND" });
+    println!(
+        "{}",
+        if all_passed {
+            "all units agree with golden::fp"
+        } else {
+            "MISMATCHES FOUND"
+        }
+    );
     Ok(all_passed)
 }
 
