@@ -6,6 +6,7 @@ use golden::fp::Method;
 use indicatif::{ProgressBar, ProgressStyle};
 use rtcosim::fp_check::{self, CheckReport, Operands};
 use rtcosim::fp_unit::UnitKind;
+use std::io::Write;
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
@@ -71,11 +72,20 @@ fn main() -> ExitCode {
     match run(Cli::parse()) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(1),
+        // The reader went away (`rtcosim ... | head`): nothing left to say.
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(2)
         }
     }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// Returns whether every check passed.
@@ -86,6 +96,7 @@ fn run(cli: Cli) -> Result<bool> {
 }
 
 fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
+    let mut out = std::io::stdout().lock();
     if let Some(threads) = args.threads {
         if threads == 0 {
             bail!("--threads must be at least 1");
@@ -100,7 +111,8 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
     } else {
         args.unit.iter().map(|&u| u.into()).collect()
     };
-    println!(
+    writeln!(
+        out,
         "rtcosim fp-check: {} units, {}, seed {}, {} threads, {}",
         units.len(),
         if args.exhaustive {
@@ -111,12 +123,13 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
         args.seed,
         rayon::current_num_threads(),
         rtcosim::VERILATOR_VERSION
-    );
-    println!();
-    println!(
+    )?;
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:<16} {:>7} {:>12} {:>10} {:>12} {:>13}",
         "unit", "cycles", "operands", "mismatch", "worst error", "Mevals/s/model"
-    );
+    )?;
     let mut all_passed = true;
     let mut failures = Vec::new();
     for kind in units {
@@ -138,44 +151,47 @@ fn fp_check_command(args: FpCheckArgs) -> Result<bool> {
         let report = fp_check::run(kind, random, &|n| bar.inc(n))?;
         bar.finish_and_clear();
         let report = edge.merge(report);
-        print_row(&report);
+        print_row(&mut out, &report)?;
         all_passed &= report.passed();
         if !report.passed() {
             failures.push(report);
         }
     }
     for report in &failures {
-        println!();
-        println!(
+        writeln!(out)?;
+        writeln!(
+            out,
             "{}: {} mismatches, {} cycle-count violations (promised {} cycles)",
             report.unit,
             report.mismatches,
             report.latency_violations,
             report.unit.latency()
-        );
+        )?;
         for m in &report.first_mismatches {
-            println!("  {m}");
+            writeln!(out, "  {m}")?;
         }
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "{}",
         if all_passed {
             "all units agree with golden::fp"
         } else {
             "MISMATCHES FOUND"
         }
-    );
+    )?;
     Ok(all_passed)
 }
 
-fn print_row(r: &CheckReport) {
+fn print_row(out: &mut impl Write, r: &CheckReport) -> std::io::Result<()> {
     let cycles = match r.cycles {
         Some((0, 0)) | None => "comb".to_string(),
         Some((lo, hi)) if lo == hi => lo.to_string(),
         Some((lo, hi)) => format!("{lo}-{hi}"),
     };
-    println!(
+    writeln!(
+        out,
         "{:<16} {:>7} {:>12} {:>10} {:>12} {:>13.2}",
         r.unit.to_string(),
         cycles,
@@ -183,7 +199,7 @@ fn print_row(r: &CheckReport) {
         r.mismatches,
         r.worst_error.to_string(),
         r.evals_per_second() / 1e6
-    );
+    )
 }
 
 #[cfg(test)]
