@@ -5,5 +5,7 @@
 //!
 //! - [`fp`]: bit-exact models of the float32 units in `rtl/fp/`, and the ULP
 //!   distance used to compare float results.
+//! - [`trace`]: trace events (one per register-file write) and trace files.
 
 pub mod fp;
+pub mod trace;
