@@ -35,25 +35,6 @@ module fp_add (
     localparam [4:0]  ALIGN_MAX   = 5'd27;
 
     // ------------------------------------------------------------------------
-    // Leading-zero count of the 28-bit raw sum
-    // ------------------------------------------------------------------------
-    function [4:0] lzc28;
-        input [27:0] v;
-        integer      i;
-        reg          found;
-        begin
-            lzc28 = 5'd0;
-            found = 1'b0;
-            for (i = 27; i >= 0; i = i - 1) begin
-                if (v[i])
-                    found = 1'b1;
-                if (!found)
-                    lzc28 = lzc28 + 5'd1;
-            end
-        end
-    endfunction
-
-    // ------------------------------------------------------------------------
     // Unpack and classify
     // ------------------------------------------------------------------------
     wire       a_sign    = a[31];
@@ -109,7 +90,8 @@ module fp_add (
     // ------------------------------------------------------------------------
     // Leading one is moved to bit 27. Bit 27 of raw_sum carries weight
     // 2^(big_exp_eff + 1), so each leading zero costs one exponent step.
-    wire [4:0]         lz       = lzc28(raw_sum);
+    wire [4:0] lz;
+    fp_lzc #(.WIDTH(28), .COUNT_W(5)) u_lzc (.value(raw_sum), .count(lz));
     wire [27:0]        norm_sum = raw_sum << lz;
     wire signed [11:0] norm_exp = {4'd0, big_exp_eff} + 12'd1 - {7'd0, lz};
 

@@ -20,25 +20,6 @@ module fp_itof (
     localparam [11:0] EXP_MSB = 12'd158;
 
     // ------------------------------------------------------------------------
-    // Leading-zero count of the 32-bit magnitude
-    // ------------------------------------------------------------------------
-    function [5:0] lzc32;
-        input [31:0] v;
-        integer      i;
-        reg          found;
-        begin
-            lzc32 = 6'd0;
-            found = 1'b0;
-            for (i = 31; i >= 0; i = i - 1) begin
-                if (v[i])
-                    found = 1'b1;
-                if (!found)
-                    lzc32 = lzc32 + 6'd1;
-            end
-        end
-    endfunction
-
-    // ------------------------------------------------------------------------
     // Sign / magnitude
     // ------------------------------------------------------------------------
     wire        neg = a[31];
@@ -48,7 +29,8 @@ module fp_itof (
     // Normalize
     // ------------------------------------------------------------------------
     // For a = 0 the shift clears everything; the result is overridden below.
-    wire [5:0]         lz       = lzc32(mag);
+    wire [5:0] lz;
+    fp_lzc #(.WIDTH(32), .COUNT_W(6)) u_lzc (.value(mag), .count(lz));
     wire [31:0]        norm_mag = mag << lz;
     wire signed [11:0] norm_exp = EXP_MSB - {6'd0, lz};
 

@@ -27,25 +27,6 @@ module fp_mul (
     localparam [11:0] EXP_OFFSET  = 12'd126;
 
     // ------------------------------------------------------------------------
-    // Leading-zero count of the 48-bit product
-    // ------------------------------------------------------------------------
-    function [5:0] lzc48;
-        input [47:0] v;
-        integer      i;
-        reg          found;
-        begin
-            lzc48 = 6'd0;
-            found = 1'b0;
-            for (i = 47; i >= 0; i = i - 1) begin
-                if (v[i])
-                    found = 1'b1;
-                if (!found)
-                    lzc48 = lzc48 + 6'd1;
-            end
-        end
-    endfunction
-
-    // ------------------------------------------------------------------------
     // Unpack and classify
     // ------------------------------------------------------------------------
     wire [7:0]  a_exp     = a[30:23];
@@ -80,7 +61,8 @@ module fp_mul (
     // The product of two non-zero significands is non-zero, so lz <= 46 and
     // the leading one always reaches bit 47. Exponents of far-too-small
     // results go negative; fp_round turns those into subnormals or zero.
-    wire [5:0]         lz        = lzc48(prod);
+    wire [5:0] lz;
+    fp_lzc #(.WIDTH(48), .COUNT_W(6)) u_lzc (.value(prod), .count(lz));
     wire [47:0]        norm_prod = prod << lz;
     wire signed [11:0] norm_exp  = {4'd0, a_exp_eff} + {4'd0, b_exp_eff}
                                    - EXP_OFFSET - {6'd0, lz};

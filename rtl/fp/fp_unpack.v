@@ -30,14 +30,8 @@ module fp_unpack (
     // Leading-zero count of a subnormal fraction (1..22 shifts; 23 only for
     // zero, whose outputs are don't-care)
     // ------------------------------------------------------------------------
-    reg [4:0] lz;
-    integer   i;
-    always @* begin
-        lz = 5'd23;
-        for (i = 0; i < 23; i = i + 1) begin
-            if (frac[i]) lz = 5'd22 - i[4:0];
-        end
-    end
+    wire [4:0] lz;
+    fp_lzc #(.WIDTH(23), .COUNT_W(5)) u_lzc (.value(frac), .count(lz));
 
     // ------------------------------------------------------------------------
     // Normalization
