@@ -186,7 +186,7 @@ fn find_verilator() -> Result<Verilator, String> {
             ));
         }
         (bin, Some(root))
-    } else if runs(&mut Command::new("verilator").arg("--version")) {
+    } else if runs(Command::new("verilator").arg("--version")) {
         (PathBuf::from("verilator"), None)
     } else if let Some(root) = pypi_root() {
         (root.join("bin/verilator"), Some(root))

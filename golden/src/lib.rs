@@ -5,7 +5,14 @@
 //!
 //! - [`fp`]: bit-exact models of the float32 units in `rtl/fp/`, and the ULP
 //!   distance used to compare float results.
+//! - [`scene`]: scene files (TOML), their validation, and the constants
+//!   derived from them once for every model.
+//! - [`reference`](mod@reference): the f64 reference renderer, ground truth for accuracy.
+//! - [`frame`]: rendered frames: PNG output and frame-to-frame comparison.
 //! - [`trace`]: trace events (one per register-file write) and trace files.
 
 pub mod fp;
+pub mod frame;
+pub mod reference;
+pub mod scene;
 pub mod trace;

@@ -30,7 +30,7 @@ const CORR_FRAC: u32 = 30;
 /// in integers only, exactly as the Verilog constant function computes it.
 pub(crate) const fn seed_entry(index: u32) -> u32 {
     let d = (1u64 << (SEED_BITS + 1)) + 2 * index as u64 + 1;
-    ((((1u64 << (SEED_WIDTH + SEED_BITS + 2)) / d) + 1) / 2) as u32
+    ((((1u64 << (SEED_WIDTH + SEED_BITS + 2)) / d) + 1) >> 1) as u32
 }
 
 static SEED: [u16; 1 << SEED_BITS] = {

@@ -1,0 +1,191 @@
+//! The f64 reference renderer: ground truth for accuracy.
+//!
+//! Written plainly and recursively, as a textbook would, with none of the
+//! speed-ups of thesis 3.10 (the scene's speed-up switches are ignored: they
+//! must not change the image, and this renderer is what proves it). The
+//! scene's f32 numbers are widened to f64 exactly; everything after that is
+//! f64.
+//!
+//! The optics, which the micro-op model follows too:
+//!
+//! - Primary ray of pixel (px, py), py = 0 at the top: camera-space
+//!   direction `(px - width/2, height/2 - py, distance)` (no half-pixel
+//!   offset), rotated by `Rz * Ry * Rx`, normalized; origin the eye.
+//! - Sphere (c, r): `v = o - c`, `b = v·d`, `disc = b² - (v·v - r²)`; a hit
+//!   iff `disc >= 0` and `t = -b - sqrt(disc) > 0` (the ray starts outside).
+//! - Plane (normal n = facing·unit(axis), offset q): `denom = n·d`; a hit iff
+//!   `denom < 0` and `t = (facing·q - n·o) / denom > 0`. Planes are one-sided.
+//! - The nearest hit wins; on a tie in t, spheres before planes, lower index
+//!   first. A ray never tests the object it leaves from (all objects are
+//!   convex, so this is exact; no epsilon anywhere).
+//! - Shading at p, normal n, incoming d, material (C, kd, ks, kr), light
+//!   (L, Lc): `l = normalize(L - p)`; the light is visible unless another
+//!   object is hit along (p, l) with `t < |L - p|`. If visible,
+//!   `local = kd·max(n·l, 0)·(C∘Lc) + ks·max(r·l, 0)^20·Lc` with
+//!   `r = d - 2(d·n)n`; otherwise 0. No ambient light; a miss is black.
+//! - `shade(ray, depth) = local + kr·shade(reflected ray, depth + 1)` when
+//!   `kr > 0` and `depth + 1 < max_depth` (the primary ray has depth 0).
+
+use crate::frame::Frame;
+use crate::scene::{Scene, Vec3f};
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+
+/// Exponent of the specular term (thesis equation 11).
+pub const SPECULAR_EXPONENT: i32 = 20;
+
+/// Which object a ray hit or leaves from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Object {
+    Sphere(usize),
+    Plane(usize),
+}
+
+/// The colour of pixel (px, py): linear RGB, not clamped.
+pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
+    let dir = primary_direction(scene, px, py);
+    shade(scene, dvec(scene.camera.eye), dir, None, 0).to_array()
+}
+
+/// Renders the whole frame, rows in parallel on the current rayon pool.
+/// Every pixel is computed independently, so the frame is the same whatever
+/// the number of threads. `progress` is called with the number of pixels
+/// finished, once per row, from the worker threads.
+pub fn render(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> Frame {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut pixels = vec![[0.0; 3]; w as usize * h as usize];
+    pixels
+        .par_chunks_mut(w as usize)
+        .enumerate()
+        .for_each(|(py, row)| {
+            for (px, out) in row.iter_mut().enumerate() {
+                *out = render_pixel(scene, px as u32, py as u32);
+            }
+            progress(u64::from(w));
+        });
+    Frame {
+        width: w,
+        height: h,
+        pixels,
+    }
+}
+
+/// The unit direction of the primary ray through pixel (px, py).
+pub fn primary_direction(scene: &Scene, px: u32, py: u32) -> DVec3 {
+    let c = &scene.camera;
+    let d_cam = DVec3::new(
+        f64::from(px) - f64::from(c.width) / 2.0,
+        f64::from(c.height) / 2.0 - f64::from(py),
+        f64::from(c.distance),
+    );
+    (camera_rotation(c.rotation_deg) * d_cam).normalize()
+}
+
+/// `Rz * Ry * Rx` for rotations about x, then y, then z (degrees), each a
+/// right-handed rotation as in thesis equation 13.
+pub fn camera_rotation(deg: Vec3f) -> DMat3 {
+    let [x, y, z] = deg.map(|a| f64::from(a).to_radians());
+    DMat3::from_rotation_z(z) * DMat3::from_rotation_y(y) * DMat3::from_rotation_x(x)
+}
+
+fn dvec(v: Vec3f) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+/// Distance along the unit ray (o, d) to sphere `i`, if it is hit from
+/// outside at t > 0.
+fn hit_sphere(scene: &Scene, i: usize, o: DVec3, d: DVec3) -> Option<f64> {
+    let s = &scene.spheres[i];
+    let r = f64::from(s.radius);
+    let v = o - dvec(s.center);
+    let b = v.dot(d);
+    let disc = b * b - (v.dot(v) - r * r);
+    if disc < 0.0 {
+        return None;
+    }
+    let t = -b - disc.sqrt();
+    (t > 0.0).then_some(t)
+}
+
+/// Distance along the ray (o, d) to plane `j`, if the ray comes from its
+/// normal side and meets it at t > 0.
+fn hit_plane(scene: &Scene, j: usize, o: DVec3, d: DVec3) -> Option<f64> {
+    let p = &scene.planes[j];
+    let n = dvec(p.normal());
+    let denom = n.dot(d);
+    if denom >= 0.0 {
+        return None;
+    }
+    let t = (f64::from(p.facing) * f64::from(p.offset) - n.dot(o)) / denom;
+    (t > 0.0).then_some(t)
+}
+
+/// Every object the ray (o, d) hits, except `skip`, with its distance, in
+/// the tie-break order: spheres by index, then planes by index.
+fn hits(
+    scene: &Scene,
+    o: DVec3,
+    d: DVec3,
+    skip: Option<Object>,
+) -> impl Iterator<Item = (Object, f64)> + '_ {
+    let spheres = (0..scene.spheres.len())
+        .filter(move |&i| skip != Some(Object::Sphere(i)))
+        .filter_map(move |i| hit_sphere(scene, i, o, d).map(|t| (Object::Sphere(i), t)));
+    let planes = (0..scene.planes.len())
+        .filter(move |&j| skip != Some(Object::Plane(j)))
+        .filter_map(move |j| hit_plane(scene, j, o, d).map(|t| (Object::Plane(j), t)));
+    spheres.chain(planes)
+}
+
+/// The nearest object along (o, d), ignoring `skip`; the first in tie-break
+/// order among equally near ones.
+pub fn nearest_hit(
+    scene: &Scene,
+    o: DVec3,
+    d: DVec3,
+    skip: Option<Object>,
+) -> Option<(Object, f64)> {
+    hits(scene, o, d, skip).fold(None, |best, (obj, t)| match best {
+        Some((_, best_t)) if best_t <= t => best,
+        _ => Some((obj, t)),
+    })
+}
+
+/// Whether the light is visible from `p` on object `on`.
+pub fn light_visible(scene: &Scene, p: DVec3, on: Object) -> bool {
+    let to_light = dvec(scene.light.position) - p;
+    let dist = to_light.length();
+    let l = to_light / dist;
+    !hits(scene, p, l, Some(on)).any(|(_, t)| t < dist)
+}
+
+fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) -> DVec3 {
+    let Some((obj, t)) = nearest_hit(scene, o, d, from) else {
+        return DVec3::ZERO;
+    };
+    let p = o + t * d;
+    let (n, m) = match obj {
+        Object::Sphere(i) => {
+            let s = &scene.spheres[i];
+            ((p - dvec(s.center)) / f64::from(s.radius), &s.material)
+        }
+        Object::Plane(j) => {
+            let pl = &scene.planes[j];
+            (dvec(pl.normal()), &pl.material)
+        }
+    };
+    let r = d - 2.0 * d.dot(n) * n;
+    let light_color = dvec(scene.light.color);
+    let mut color = DVec3::ZERO;
+    if light_visible(scene, p, obj) {
+        let l = (dvec(scene.light.position) - p).normalize();
+        let diffuse = f64::from(m.diffuse) * n.dot(l).max(0.0);
+        let specular = f64::from(m.specular) * r.dot(l).max(0.0).powi(SPECULAR_EXPONENT);
+        color = diffuse * (dvec(m.color) * light_color) + specular * light_color;
+    }
+    let kr = f64::from(m.reflection);
+    if kr > 0.0 && depth + 1 < scene.render.max_depth {
+        color += kr * shade(scene, p, r, Some(obj), depth + 1);
+    }
+    color
+}
