@@ -74,6 +74,9 @@ struct RenderArgs {
 enum ModelArg {
     /// The f64 reference renderer (golden::reference), ground truth.
     Reference,
+    /// The f32 micro-op model of the RTL pixel processor (golden::micro):
+    /// also reports cycles per pixel and the instruction mix.
+    Micro,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -204,7 +207,7 @@ fn render_command(args: RenderArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     let start = Instant::now();
-    let frame = pool.install(|| render_with(args.model, &scene, &|n| bar.inc(n)))?;
+    let (frame, stats) = pool.install(|| render_with(args.model, &scene, &|n| bar.inc(n)))?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     frame.save_png(&args.out)?;
@@ -219,15 +222,72 @@ fn render_command(args: RenderArgs) -> Result<()> {
             ""
         }
     )?;
+    if let Some(stats) = stats {
+        print_cycles(&mut out, &stats)?;
+    }
     writeln!(out, "wrote {}", args.out.display())?;
     Ok(())
 }
 
-/// Renders with the chosen model on the current rayon pool. Fallible so that
-/// models which can refuse a scene (the micro-op model, the RTL) fit in.
-fn render_with(model: ModelArg, scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> Result<Frame> {
+/// Cycles per pixel and the instruction mix of a micro-model render.
+fn print_cycles(out: &mut impl Write, s: &golden::micro::FrameStats) -> std::io::Result<()> {
+    use golden::micro::OpClass;
+    writeln!(
+        out,
+        "cycles/pixel: mean {:.1}, max {} at {:?}, min {} ({} cycles in all)",
+        s.mean_cycles(),
+        s.max_cycles,
+        s.max_pixel,
+        s.min_cycles,
+        s.cycles
+    )?;
+    let (n, c) = (
+        s.ops.instructions().max(1),
+        s.ops.instruction_cycles().max(1),
+    );
+    let per_pixel = |x: u64| x as f64 / s.pixels.max(1) as f64;
+    writeln!(
+        out,
+        "{:<8} {:>12} {:>7} {:>14} {:>7}",
+        "class", "instr/pixel", "share", "cycles/pixel", "share"
+    )?;
+    for class in OpClass::ALL {
+        let (ci, cc) = (s.ops.count_of(class), s.ops.cycles_of(class));
+        writeln!(
+            out,
+            "{:<8} {:>12.2} {:>6.1}% {:>14.2} {:>6.1}%",
+            class.name(),
+            per_pixel(ci),
+            100.0 * ci as f64 / n as f64,
+            per_pixel(cc),
+            100.0 * cc as f64 / c as f64
+        )?;
+    }
+    writeln!(
+        out,
+        "{:<8} {:>12.2} {:>7} {:>14.2}  (+{} start/done cycles per pixel)",
+        "all",
+        per_pixel(s.ops.instructions()),
+        "",
+        per_pixel(s.ops.instruction_cycles()),
+        golden::micro::FIXED_CYCLES
+    )
+}
+
+/// Renders with the chosen model on the current rayon pool, with the cycle
+/// statistics of the models that have them. Fallible so that models which
+/// can refuse a scene (the RTL) fit in.
+fn render_with(
+    model: ModelArg,
+    scene: &Scene,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(Frame, Option<golden::micro::FrameStats>)> {
     match model {
-        ModelArg::Reference => Ok(golden::reference::render(scene, progress)),
+        ModelArg::Reference => Ok((golden::reference::render(scene, progress), None)),
+        ModelArg::Micro => {
+            let (frame, stats) = golden::micro::render(scene, progress);
+            Ok((frame, Some(stats)))
+        }
     }
 }
 
@@ -235,6 +295,7 @@ impl ModelArg {
     fn name(self) -> &'static str {
         match self {
             ModelArg::Reference => "reference",
+            ModelArg::Micro => "micro",
         }
     }
 }
@@ -427,9 +488,15 @@ mod tests {
             let err = Cli::try_parse_from(["rtcosim", "render", "--size", size]).expect_err(size);
             assert_eq!(err.exit_code(), 2, "{size}");
         }
-        let err = Cli::try_parse_from(["rtcosim", "render", "--model", "micro"])
-            .expect_err("no micro model yet");
+        let err = Cli::try_parse_from(["rtcosim", "render", "--model", "rtl-someday"])
+            .expect_err("no such model");
         assert_eq!(err.exit_code(), 2);
+        let cli = Cli::try_parse_from(["rtcosim", "render", "--model", "micro"])
+            .expect("the micro-op model exists");
+        let Command::Render(args) = cli.command else {
+            panic!("expected the render subcommand");
+        };
+        assert_eq!(args.model, ModelArg::Micro);
     }
 
     #[test]

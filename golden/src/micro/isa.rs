@@ -1,0 +1,278 @@
+//! The pixel processor's ISA, generated at build time from `rtl/pp/isa.vh`
+//! (the single source of truth, shared with the RTL): opcodes ([`op`]),
+//! register addresses ([`reg`]), controller FSM states ([`state`]), widths,
+//! counts and strides ([`dim`]), and the name tables.
+//!
+//! Register arrays are declared once in the header (element 0) with a count
+//! and a stride; [`sphere`], [`plane`], [`rot`], [`corner`] and [`stack`]
+//! compute the other elements' addresses, and [`register_name`] names every
+//! one of them (`SPH3_C`, `STK2_COL`).
+
+include!(concat!(env!("OUT_DIR"), "/isa.rs"));
+
+use crate::scene::{MAX_DEPTH, MAX_PLANES, MAX_SPHERES};
+
+// The header's arrays are the scene limits the rest of golden enforces.
+const _: () = assert!(dim::SPH_COUNT == MAX_SPHERES);
+const _: () = assert!(dim::PLN_COUNT == MAX_PLANES);
+const _: () = assert!(dim::STK_COUNT == MAX_DEPTH as usize);
+const _: () = assert!(dim::REG_BITS == 7 && dim::ST_BITS <= 16 && dim::OP_BITS <= 8);
+// CUR_<f> and PAR_<f> decode to STK<level>_<f>: the fields line up.
+const _: () = assert!(reg::CUR_D - reg::CUR_O == reg::STK0_D - reg::STK0_O);
+const _: () = assert!(reg::CUR_COL - reg::CUR_O == reg::STK0_COL - reg::STK0_O);
+const _: () = assert!(reg::CUR_W - reg::CUR_O == reg::STK0_W - reg::STK0_O);
+const _: () = assert!(reg::PAR_O - reg::CUR_O == dim::STK_STRIDE as u8);
+const _: () = assert!(dim::STK_STRIDE == 4);
+
+/// Number of register addresses.
+pub const REGISTER_COUNT: usize = 1 << dim::REG_BITS;
+
+/// A field of a sphere's registers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SphereField {
+    /// Centre.
+    C = 0,
+    /// `<r*r, 1/r, 0>`.
+    R = 1,
+    Col = 2,
+    /// `<kd, ks, kr>`.
+    Mat = 3,
+}
+
+/// A field of a plane's registers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlaneField {
+    /// Normal.
+    N = 0,
+    /// `<facing * offset, 0, 0>`.
+    Q = 1,
+    Col = 2,
+    /// `<kd, ks, kr>`.
+    Mat = 3,
+}
+
+/// A field of a ray on the stack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RayField {
+    O = 0,
+    D = 1,
+    Col = 2,
+    W = 3,
+}
+
+const _: () = assert!(reg::SPH0_R - reg::SPH0_C == SphereField::R as u8);
+const _: () = assert!(reg::SPH0_COL - reg::SPH0_C == SphereField::Col as u8);
+const _: () = assert!(reg::SPH0_MAT - reg::SPH0_C == SphereField::Mat as u8);
+const _: () = assert!(reg::PLN0_Q - reg::PLN0_N == PlaneField::Q as u8);
+const _: () = assert!(reg::PLN0_COL - reg::PLN0_N == PlaneField::Col as u8);
+const _: () = assert!(reg::PLN0_MAT - reg::PLN0_N == PlaneField::Mat as u8);
+const _: () = assert!(reg::STK0_D - reg::STK0_O == RayField::D as u8);
+const _: () = assert!(reg::STK0_COL - reg::STK0_O == RayField::Col as u8);
+const _: () = assert!(reg::STK0_W - reg::STK0_O == RayField::W as u8);
+const _: () = assert!(reg::ROT0_S - reg::ROT0_C == 1);
+
+/// Address of sphere `k`'s `field`.
+pub const fn sphere(k: usize, field: SphereField) -> u8 {
+    assert!(k < dim::SPH_COUNT);
+    reg::SPH0_C + (k * dim::SPH_STRIDE) as u8 + field as u8
+}
+
+/// Address of plane `p`'s `field`.
+pub const fn plane(p: usize, field: PlaneField) -> u8 {
+    assert!(p < dim::PLN_COUNT);
+    reg::PLN0_N + (p * dim::PLN_STRIDE) as u8 + field as u8
+}
+
+/// Address of the rotation constants about `axis` (0 = x): `(ROTa_C, ROTa_S)`.
+pub const fn rot(axis: usize) -> (u8, u8) {
+    assert!(axis < dim::ROT_COUNT);
+    let c = reg::ROT0_C + (axis * dim::ROT_STRIDE) as u8;
+    (c, c + 1)
+}
+
+/// Address of bounding-box corner `k` (lane i = maximum iff bit i of k).
+pub const fn corner(k: usize) -> u8 {
+    assert!(k < dim::BOX_COUNT);
+    reg::BOX0 + (k * dim::BOX_STRIDE) as u8
+}
+
+/// Physical address of stack level `level`'s `field`.
+pub const fn stack(level: usize, field: RayField) -> u8 {
+    assert!(level < dim::STK_COUNT);
+    reg::STK0_O + (level * dim::STK_STRIDE) as u8 + field as u8
+}
+
+/// Whether `code` is one of the stack-pointer-relative addresses
+/// (`CUR_*`, `PAR_*`), which the memory controller decodes.
+pub const fn is_stack_relative(code: u8) -> bool {
+    code >= reg::CUR_O && code <= reg::PAR_W
+}
+
+/// The memory controller's decoding: `CUR_<f>` is `STK<sp>_<f>`, `PAR_<f>`
+/// is `STK<sp-1>_<f>`, every other address is itself. `None` for `PAR_*`
+/// at sp = 0 or a level past the stack.
+pub const fn decode(code: u8, sp: usize) -> Option<u8> {
+    if !is_stack_relative(code) {
+        return Some(code);
+    }
+    let rel = (code - reg::CUR_O) as usize;
+    let (level, field) = if rel < dim::STK_STRIDE {
+        (sp, rel)
+    } else {
+        if sp == 0 {
+            return None;
+        }
+        (sp - 1, rel - dim::STK_STRIDE)
+    };
+    if level >= dim::STK_COUNT {
+        return None;
+    }
+    Some(reg::STK0_O + (level * dim::STK_STRIDE + field) as u8)
+}
+
+static REGISTER_NAMES: [Option<&str>; REGISTER_COUNT] = {
+    let mut t = [None; REGISTER_COUNT];
+    let mut i = 0;
+    while i < REGISTERS.len() {
+        t[REGISTERS[i].1 as usize] = Some(REGISTERS[i].0);
+        i += 1;
+    }
+    t
+};
+
+/// The name of register address `code` (`"SPH1_R"`, `"T3"`, `"STK0_COL"`),
+/// or `None` if the header names no register there.
+pub fn register_name(code: u8) -> Option<&'static str> {
+    REGISTER_NAMES.get(code as usize).copied().flatten()
+}
+
+/// The address of the register named `name` (array elements included).
+pub fn register_code(name: &str) -> Option<u8> {
+    REGISTERS.iter().find(|(n, _)| *n == name).map(|&(_, c)| c)
+}
+
+/// The name of FSM state `id` (`"SPH_SQRT"`), or `None`.
+pub fn state_name(id: u16) -> Option<&'static str> {
+    STATES.iter().find(|&&(_, c)| c == id).map(|&(n, _)| n)
+}
+
+/// The id of the FSM state named `name`.
+pub fn state_code(name: &str) -> Option<u16> {
+    STATES.iter().find(|(n, _)| *n == name).map(|&(_, c)| c)
+}
+
+/// The name of opcode `code` (`"ISECT2"`), or `None`.
+pub fn op_name(code: u8) -> Option<&'static str> {
+    OPS.iter().find(|&&(_, c)| c == code).map(|&(n, _)| n)
+}
+
+/// The opcode named `name`.
+pub fn op_code(name: &str) -> Option<u8> {
+    OPS.iter().find(|(n, _)| *n == name).map(|&(_, c)| c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::micro::isa_parse;
+    use std::collections::HashSet;
+
+    #[test]
+    fn codes_are_unique_within_each_kind() {
+        let ops: HashSet<u8> = OPS.iter().map(|o| o.1).collect();
+        assert_eq!(ops.len(), OPS.len());
+        let states: HashSet<u16> = STATES.iter().map(|s| s.1).collect();
+        assert_eq!(states.len(), STATES.len());
+        let regs: HashSet<u8> = REGISTERS.iter().map(|r| r.1).collect();
+        assert_eq!(regs.len(), REGISTERS.len());
+    }
+
+    #[test]
+    fn every_name_round_trips() {
+        for &(name, code) in OPS {
+            assert_eq!(op_name(code), Some(name));
+            assert_eq!(op_code(name), Some(code));
+        }
+        for &(name, code) in STATES {
+            assert_eq!(state_name(code), Some(name));
+            assert_eq!(state_code(name), Some(code));
+        }
+        for &(name, code) in REGISTERS {
+            assert_eq!(register_name(code), Some(name));
+            assert_eq!(register_code(name), Some(code));
+        }
+    }
+
+    #[test]
+    fn array_elements_are_named_and_addressed_alike() {
+        assert_eq!(register_name(sphere(3, SphereField::R)), Some("SPH3_R"));
+        assert_eq!(register_name(plane(5, PlaneField::Mat)), Some("PLN5_MAT"));
+        assert_eq!(register_name(rot(2).1), Some("ROT2_S"));
+        assert_eq!(register_name(corner(7)), Some("BOX7"));
+        assert_eq!(register_name(stack(7, RayField::W)), Some("STK7_W"));
+        assert_eq!(stack(7, RayField::W) as usize, REGISTER_COUNT - 1);
+    }
+
+    #[test]
+    fn cur_and_par_decode_through_the_stack_pointer() {
+        assert_eq!(decode(reg::CUR_COL, 0), Some(stack(0, RayField::Col)));
+        assert_eq!(decode(reg::CUR_D, 3), Some(stack(3, RayField::D)));
+        assert_eq!(decode(reg::PAR_W, 3), Some(stack(2, RayField::W)));
+        assert_eq!(decode(reg::PAR_O, 0), None);
+        assert_eq!(decode(reg::CUR_O, dim::STK_COUNT), None);
+        assert_eq!(decode(reg::T5, 6), Some(reg::T5));
+        // Every decoded address is a named register; CUR/PAR never are
+        // decoded to themselves.
+        for sp in 0..dim::STK_COUNT {
+            for code in reg::CUR_O..=reg::PAR_W {
+                if let Some(a) = decode(code, sp) {
+                    assert!(!is_stack_relative(a) && register_name(a).is_some());
+                }
+            }
+        }
+    }
+
+    /// The drift guard: the header as it is now, parsed again at test time,
+    /// is exactly what was compiled in.
+    #[test]
+    fn the_compiled_tables_match_the_header_on_disk() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../rtl/pp/isa.vh");
+        let text = std::fs::read_to_string(path).expect("reading rtl/pp/isa.vh");
+        let isa = isa_parse::parse(&text, path).expect("the header parses");
+        let rows = |kind| -> Vec<(String, u32)> {
+            isa.of(kind).map(|d| (d.name.clone(), d.value)).collect()
+        };
+        let owned = |t: &[(&str, u32)]| -> Vec<(String, u32)> {
+            t.iter().map(|(n, c)| (n.to_string(), *c)).collect()
+        };
+        let ops: Vec<_> = OPS.iter().map(|&(n, c)| (n, u32::from(c))).collect();
+        let states: Vec<_> = STATES.iter().map(|&(n, c)| (n, u32::from(c))).collect();
+        let dims: Vec<_> = DIMS.iter().map(|&(n, c)| (n, c as u32)).collect();
+        let regs: Vec<_> = REGISTERS.iter().map(|&(n, c)| (n, u32::from(c))).collect();
+        assert_eq!(
+            owned(&ops),
+            rows(isa_parse::Kind::Op),
+            "opcodes drifted: rebuild"
+        );
+        assert_eq!(
+            owned(&states),
+            rows(isa_parse::Kind::St),
+            "states drifted: rebuild"
+        );
+        assert_eq!(
+            owned(&dims),
+            rows(isa_parse::Kind::Dim),
+            "dims drifted: rebuild"
+        );
+        assert_eq!(
+            owned(&regs),
+            isa.register_names(),
+            "registers drifted: rebuild"
+        );
+        assert_eq!(
+            isa_parse::generate(&isa, "rtl/pp/isa.vh"),
+            include_str!(concat!(env!("OUT_DIR"), "/isa.rs")),
+            "the generated module differs from the header: rebuild"
+        );
+    }
+}

@@ -1,0 +1,259 @@
+//! What the scene loader puts into a pixel processor before the first
+//! pixel: the scene registers of the register file (written through the
+//! scene port, read-only afterwards) and the controller's configuration
+//! (counts, switches and per-object bits the FSM branches on).
+//!
+//! The loader places numbers: every value comes from the validated
+//! [`Scene`] and its [`Derived`](crate::scene::Derived) constants, moved or
+//! sign-flipped (exact), except the bounding box, which is widened here
+//! (see [`bounding_box`]). The RTL harness loads these very bits.
+
+use super::alu::{RegisterImage, Vec3};
+use super::isa::{self, reg, PlaneField, SphereField, REGISTER_COUNT};
+use crate::fp::Method;
+use crate::scene::{Material, Scene, Speedups, MAX_PLANES, MAX_SPHERES};
+
+/// Per-object bits the controller branches on. Each lets it skip work whose
+/// result would be an exact +0 or would never be used.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MaterialBits {
+    /// kd > 0: compute the diffuse term.
+    pub diffuse: bool,
+    /// ks > 0: compute the specular term.
+    pub specular: bool,
+    /// kr > 0: spawn a reflected ray.
+    pub reflective: bool,
+}
+
+impl MaterialBits {
+    fn of(m: &Material) -> MaterialBits {
+        MaterialBits {
+            diffuse: m.diffuse > 0.0,
+            specular: m.specular > 0.0,
+            reflective: m.reflection > 0.0,
+        }
+    }
+}
+
+/// The controller's configuration registers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Config {
+    /// Spheres in the scene (0..=8); the sphere loops run over these.
+    pub spheres: usize,
+    /// Planes in the scene (0..=6).
+    pub planes: usize,
+    /// Ray stack levels used (1..=8).
+    pub max_depth: usize,
+    pub speedups: Speedups,
+    /// The fp_recip and fp_sqrt methods (RTL parameters).
+    pub recip: Method,
+    pub sqrt: Method,
+    /// Rotate the primary ray about axis a (x, y, z): false when the angle's
+    /// cos is exactly 1 and its sin exactly 0, so the rotation is skipped.
+    pub rotate: [bool; 3],
+    pub sphere_bits: [MaterialBits; MAX_SPHERES],
+    pub plane_bits: [MaterialBits; MAX_PLANES],
+    /// Each plane's axis (0 = x): the lane the fast plane test looks at.
+    pub plane_axis: [usize; MAX_PLANES],
+    /// Each plane's facing is -1 (the normal points down its axis).
+    pub plane_facing_neg: [bool; MAX_PLANES],
+}
+
+impl Config {
+    pub fn new(scene: &Scene) -> Config {
+        let mut c = Config {
+            spheres: scene.spheres.len(),
+            planes: scene.planes.len(),
+            max_depth: scene.render.max_depth as usize,
+            speedups: scene.render.speedups,
+            recip: scene.render.recip,
+            sqrt: scene.render.sqrt,
+            rotate: [0, 1, 2]
+                .map(|a| !(scene.derived.cos[a] == 1.0 && scene.derived.sin[a] == 0.0)),
+            sphere_bits: [MaterialBits::default(); MAX_SPHERES],
+            plane_bits: [MaterialBits::default(); MAX_PLANES],
+            plane_axis: [0; MAX_PLANES],
+            plane_facing_neg: [false; MAX_PLANES],
+        };
+        for (k, s) in scene.spheres.iter().enumerate() {
+            c.sphere_bits[k] = MaterialBits::of(&s.material);
+        }
+        for (j, p) in scene.planes.iter().enumerate() {
+            c.plane_bits[j] = MaterialBits::of(&p.material);
+            c.plane_axis[j] = p.axis.index();
+            c.plane_facing_neg[j] = p.facing < 0.0;
+        }
+        c
+    }
+}
+
+/// The scene port's writes, in address order: (address, lanes x, y, z as
+/// f32 bits). Unused sphere and plane slots are not written.
+pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
+    let d = &scene.derived;
+    let mut w: Vec<(u8, Vec3)> = Vec::new();
+    for (k, s) in scene.spheres.iter().enumerate() {
+        let m = &s.material;
+        w.push((isa::sphere(k, SphereField::C), s.center));
+        w.push((
+            isa::sphere(k, SphereField::R),
+            [d.radius_sq[k], d.inv_radius[k], 0.0],
+        ));
+        w.push((isa::sphere(k, SphereField::Col), m.color));
+        w.push((
+            isa::sphere(k, SphereField::Mat),
+            [m.diffuse, m.specular, m.reflection],
+        ));
+    }
+    for (j, p) in scene.planes.iter().enumerate() {
+        let m = &p.material;
+        // facing is +-1: the product is the offset or its negation, exact.
+        let q = if p.facing < 0.0 { -p.offset } else { p.offset };
+        w.push((isa::plane(j, PlaneField::N), d.plane_normal[j]));
+        w.push((isa::plane(j, PlaneField::Q), [q, 0.0, 0.0]));
+        w.push((isa::plane(j, PlaneField::Col), m.color));
+        w.push((
+            isa::plane(j, PlaneField::Mat),
+            [m.diffuse, m.specular, m.reflection],
+        ));
+    }
+    w.push((reg::LIGHT_POS, scene.light.position));
+    w.push((reg::LIGHT_COL, scene.light.color));
+    w.push((reg::EYE, scene.camera.eye));
+    w.push((
+        reg::CAM_HALF,
+        [-d.half_width, d.half_height, scene.camera.distance],
+    ));
+    for a in 0..3 {
+        let (c, s) = (d.cos[a], d.sin[a]);
+        let (u, v) = ((a + 1) % 3, (a + 2) % 3);
+        let mut cv = [1.0; 3];
+        let mut sv = [0.0; 3];
+        cv[u] = c;
+        cv[v] = c;
+        sv[u] = -s;
+        sv[v] = s;
+        let (rc, rs) = isa::rot(a);
+        w.push((rc, cv));
+        w.push((rs, sv));
+    }
+    let (lo, hi) = bounding_box(scene);
+    for k in 0..8 {
+        let corner = [0, 1, 2].map(|i| if k >> i & 1 == 1 { hi[i] } else { lo[i] });
+        w.push((isa::corner(k), corner));
+    }
+    w.push((reg::ZERO, [0.0; 3]));
+    w.push((reg::ONE, [1.0; 3]));
+    w.sort_by_key(|&(a, _)| a);
+    w.into_iter()
+        .map(|(a, v)| (a, v.map(f32::to_bits)))
+        .collect()
+}
+
+/// The box's longest side divided by this is the margin [`bounding_box`]
+/// adds on every side.
+pub const BOX_MARGIN_DIVISOR: f64 = 256.0;
+
+/// The bounding box the RTL tests (corners BOX0 = min, BOX7 = max): the
+/// scene's derived box around the spheres, widened on every side by its
+/// longest side / [`BOX_MARGIN_DIVISOR`] and rounded outwards.
+///
+/// Why wider: the box must never refuse a ray that the f32 sphere test
+/// accepts, or switching it on would change the image. The sphere test
+/// decides from the centre's distance to the line, |w| = |v - (v.d) d|,
+/// which f32 gets right to a few ulps of the origin's coordinates: it may
+/// accept a ray passing up to ~4 * 2^-23 * |o| outside the sphere, which the
+/// exact box would refuse. The margin (1.95 units in the reference scene)
+/// covers origins up to ~4e6 units away; it costs a few more box hits.
+pub fn bounding_box(scene: &Scene) -> (Vec3, Vec3) {
+    let d = &scene.derived;
+    if scene.spheres.is_empty() {
+        return (d.bbox_min, d.bbox_max);
+    }
+    let side = (0..3)
+        .map(|i| f64::from(d.bbox_max[i]) - f64::from(d.bbox_min[i]))
+        .fold(0.0, f64::max);
+    let margin = side / BOX_MARGIN_DIVISOR;
+    (
+        [0, 1, 2].map(|i| toward_neg_inf(f64::from(d.bbox_min[i]) - margin)),
+        [0, 1, 2].map(|i| -toward_neg_inf(-(f64::from(d.bbox_max[i]) + margin))),
+    )
+}
+
+/// The largest f32 <= x (x finite, within the f32 range).
+fn toward_neg_inf(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) <= x {
+        y
+    } else if y == 0.0 {
+        -f32::from_bits(1)
+    } else if y > 0.0 {
+        f32::from_bits(y.to_bits() - 1)
+    } else {
+        f32::from_bits(y.to_bits() + 1)
+    }
+}
+
+/// The register file after the scene port's writes.
+pub fn register_image(scene: &Scene) -> RegisterImage {
+    let mut img = RegisterImage {
+        bits: [[0; 3]; REGISTER_COUNT],
+        valid: [0; REGISTER_COUNT],
+    };
+    for (a, v) in scene_writes(scene) {
+        img.bits[a as usize] = v;
+        img.valid[a as usize] = 0b111;
+    }
+    img
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_reference_scene_loads_every_scene_register_it_uses_once() {
+        let s = Scene::reference();
+        let w = scene_writes(&s);
+        let addrs: Vec<u8> = w.iter().map(|e| e.0).collect();
+        let mut dedup = addrs.clone();
+        dedup.dedup();
+        assert_eq!(addrs, dedup, "each address once, ascending");
+        // 2 spheres, 2 planes, 4 light/camera, 6 rotation, 8 corners, 2 constants.
+        assert_eq!(w.len(), 2 * 4 + 2 * 4 + 4 + 6 + 8 + 2);
+        assert!(w.iter().all(|&(a, _)| a < reg::T0));
+        let at = |a: u8| {
+            w.iter()
+                .find(|e| e.0 == a)
+                .expect("written")
+                .1
+                .map(f32::from_bits)
+        };
+        assert_eq!(
+            at(isa::sphere(1, SphereField::R)),
+            [4900.0, 1.0 / 70.0, 0.0]
+        );
+        // The back wall: z = 700 facing -: n = <0, 0, -1>, q = -700.
+        assert_eq!(at(isa::plane(1, PlaneField::N)), [0.0, 0.0, -1.0]);
+        assert_eq!(at(isa::plane(1, PlaneField::Q)), [-700.0, 0.0, 0.0]);
+        assert_eq!(at(reg::CAM_HALF), [-400.0, 300.0, 600.0]);
+        // The spheres span x -260..240, y 2..302, z 10..400: margin 500/256.
+        let m = 500.0 / 256.0;
+        assert_eq!(at(isa::corner(0)), [-260.0 - m, 2.0 - m, 10.0 - m]);
+        assert_eq!(at(isa::corner(7)), [240.0 + m, 302.0 + m, 400.0 + m]);
+        assert_eq!(at(isa::corner(5)), [240.0 + m, 2.0 - m, 400.0 + m]);
+        let (c, sn) = (s.derived.cos[0], s.derived.sin[0]);
+        assert_eq!(at(isa::rot(0).0), [1.0, c, c]);
+        assert_eq!(at(isa::rot(0).1), [0.0, -sn, sn]);
+    }
+
+    #[test]
+    fn the_configuration_skips_identity_rotations() {
+        let c = Config::new(&Scene::reference());
+        assert_eq!(c.rotate, [true, false, false]);
+        assert_eq!((c.spheres, c.planes, c.max_depth), (2, 2, 4));
+        assert!(c.sphere_bits[0].specular && !c.plane_bits[0].specular);
+        assert_eq!(c.plane_axis[..2], [1, 2]);
+        assert_eq!(c.plane_facing_neg[..2], [false, true]);
+    }
+}
