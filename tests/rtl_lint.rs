@@ -47,3 +47,9 @@ fn multi_cycle_units_lint_clean_with_every_method() {
         }
     }
 }
+
+#[test]
+fn the_whole_float_unit_tree_lints_clean_as_one_design() {
+    // What a reviewer runs over rtl/: every file at once, fp_units on top.
+    lint("fp_units", &[]);
+}
