@@ -35,6 +35,7 @@
 `define ISA_DIM_OP_BITS 6    // opcode field
 `define ISA_DIM_REG_BITS 7   // register address (128 vector registers)
 `define ISA_DIM_ST_BITS 9    // controller FSM state id
+`define ISA_DIM_COORD_BITS 12  // pixel coordinates px, py (images up to 4096 x 4096)
 
 // ---------------------------------------------------------------------------
 // ALU opcodes. Single-cycle unless noted.
@@ -135,6 +136,23 @@
 `define ISA_REG_STK0_D 97
 `define ISA_REG_STK0_COL 98
 `define ISA_REG_STK0_W 99
+
+// ---------------------------------------------------------------------------
+// The configuration word: the controller's per-scene switches and counts
+// (golden::micro::loader::Config), written through the scene port with
+// scene_cfg = 1 as one 96-bit value (lane x = bits 31:0). Bit offsets:
+// ---------------------------------------------------------------------------
+`define ISA_DIM_CFG_SPHERES_LSB 0    // 4 bits: spheres in the scene (0..8)
+`define ISA_DIM_CFG_PLANES_LSB 4     // 3 bits: planes (0..6)
+`define ISA_DIM_CFG_DEPTH_LSB 8      // 4 bits: stack levels used (1..8)
+`define ISA_DIM_CFG_BBOX_LSB 12      // 1 bit: bounding box test (thesis 3.10.1)
+`define ISA_DIM_CFG_FAST_PLANE_LSB 13  // 1 bit: fast plane test (3.10.2)
+`define ISA_DIM_CFG_SHORTCUT_LSB 14  // 1 bit: shadow shortcut (3.10.3)
+`define ISA_DIM_CFG_ROTATE_LSB 16    // 3 bits: rotate the primary ray about x, y, z
+`define ISA_DIM_CFG_SPH_BITS_LSB 32  // 3 bits per sphere k at + 3k: diffuse, specular, reflective
+`define ISA_DIM_CFG_PLN_BITS_LSB 56  // 3 bits per plane j at + 3j: diffuse, specular, reflective
+`define ISA_DIM_CFG_PLN_AXIS_LSB 74  // 2 bits per plane j at + 2j: its axis (0 = x)
+`define ISA_DIM_CFG_PLN_NEG_LSB 86   // 1 bit per plane j at + j: facing is -1
 
 // ---------------------------------------------------------------------------
 // Controller FSM states (9-bit ids). A multi-cycle instruction stays in its

@@ -9,9 +9,24 @@
 //! (see [`bounding_box`]). The RTL harness loads these very bits.
 
 use super::alu::{RegisterImage, Vec3};
-use super::isa::{self, reg, PlaneField, SphereField, REGISTER_COUNT};
+use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
-use crate::scene::{Material, Scene, Speedups, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{Material, Scene, Speedups, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES};
+
+// The configuration word's fields (rtl/pp/isa.vh) fit in its 96 bits and
+// do not overlap; the coordinate ports hold every pixel of the largest image.
+const _: () = assert!(dim::CFG_SPHERES_LSB + 4 <= dim::CFG_PLANES_LSB);
+const _: () = assert!(dim::CFG_PLANES_LSB + 3 <= dim::CFG_DEPTH_LSB);
+const _: () = assert!(dim::CFG_DEPTH_LSB + 4 <= dim::CFG_BBOX_LSB);
+const _: () = assert!(dim::CFG_BBOX_LSB < dim::CFG_FAST_PLANE_LSB);
+const _: () = assert!(dim::CFG_FAST_PLANE_LSB < dim::CFG_SHORTCUT_LSB);
+const _: () = assert!(dim::CFG_SHORTCUT_LSB < dim::CFG_ROTATE_LSB);
+const _: () = assert!(dim::CFG_ROTATE_LSB + 3 <= dim::CFG_SPH_BITS_LSB);
+const _: () = assert!(dim::CFG_SPH_BITS_LSB + 3 * MAX_SPHERES <= dim::CFG_PLN_BITS_LSB);
+const _: () = assert!(dim::CFG_PLN_BITS_LSB + 3 * MAX_PLANES <= dim::CFG_PLN_AXIS_LSB);
+const _: () = assert!(dim::CFG_PLN_AXIS_LSB + 2 * MAX_PLANES <= dim::CFG_PLN_NEG_LSB);
+const _: () = assert!(dim::CFG_PLN_NEG_LSB + MAX_PLANES <= 96);
+const _: () = assert!(1 << dim::COORD_BITS == MAX_IMAGE_SIDE as usize);
 
 /// Per-object bits the controller branches on. Each lets it skip work whose
 /// result would be an exact +0 or would never be used.
@@ -26,6 +41,11 @@ pub struct MaterialBits {
 }
 
 impl MaterialBits {
+    /// The configuration word's 3 bits: diffuse, specular, reflective.
+    pub fn code(self) -> u128 {
+        u128::from(self.diffuse) | u128::from(self.specular) << 1 | u128::from(self.reflective) << 2
+    }
+
     fn of(m: &Material) -> MaterialBits {
         MaterialBits {
             diffuse: m.diffuse > 0.0,
@@ -84,6 +104,31 @@ impl Config {
             c.plane_facing_neg[j] = p.facing < 0.0;
         }
         c
+    }
+
+    /// The configuration word the scene port writes with scene_cfg = 1
+    /// (layout: `ISA_DIM_CFG_*` in rtl/pp/isa.vh), as lanes x, y, z.
+    pub fn word(&self) -> [u32; 3] {
+        let mut w: u128 = 0;
+        let mut put = |lsb: usize, v: u128| w |= v << lsb;
+        put(dim::CFG_SPHERES_LSB, self.spheres as u128);
+        put(dim::CFG_PLANES_LSB, self.planes as u128);
+        put(dim::CFG_DEPTH_LSB, self.max_depth as u128);
+        put(dim::CFG_BBOX_LSB, u128::from(self.speedups.bounding_box));
+        put(dim::CFG_FAST_PLANE_LSB, u128::from(self.speedups.fast_plane));
+        put(dim::CFG_SHORTCUT_LSB, u128::from(self.speedups.shadow_shortcut));
+        for a in 0..3 {
+            put(dim::CFG_ROTATE_LSB + a, u128::from(self.rotate[a]));
+        }
+        for (k, b) in self.sphere_bits.iter().enumerate() {
+            put(dim::CFG_SPH_BITS_LSB + 3 * k, b.code());
+        }
+        for j in 0..MAX_PLANES {
+            put(dim::CFG_PLN_BITS_LSB + 3 * j, self.plane_bits[j].code());
+            put(dim::CFG_PLN_AXIS_LSB + 2 * j, self.plane_axis[j] as u128);
+            put(dim::CFG_PLN_NEG_LSB + j, u128::from(self.plane_facing_neg[j]));
+        }
+        [w as u32, (w >> 32) as u32, (w >> 64) as u32]
     }
 }
 
@@ -255,5 +300,30 @@ mod tests {
         assert!(c.sphere_bits[0].specular && !c.plane_bits[0].specular);
         assert_eq!(c.plane_axis[..2], [1, 2]);
         assert_eq!(c.plane_facing_neg[..2], [false, true]);
+    }
+
+    #[test]
+    fn the_configuration_word_packs_every_field_where_the_header_says() {
+        let c = Config::new(&Scene::reference());
+        let [x, y, z] = c.word();
+        let w = u128::from(x) | u128::from(y) << 32 | u128::from(z) << 64;
+        let field = |lsb: usize, bits: usize| (w >> lsb) & ((1 << bits) - 1);
+        assert_eq!(field(dim::CFG_SPHERES_LSB, 4), 2);
+        assert_eq!(field(dim::CFG_PLANES_LSB, 3), 2);
+        assert_eq!(field(dim::CFG_DEPTH_LSB, 4), 4);
+        let s = c.speedups;
+        assert_eq!(field(dim::CFG_BBOX_LSB, 1), u128::from(s.bounding_box));
+        assert_eq!(field(dim::CFG_FAST_PLANE_LSB, 1), u128::from(s.fast_plane));
+        assert_eq!(field(dim::CFG_SHORTCUT_LSB, 1), u128::from(s.shadow_shortcut));
+        assert_eq!(field(dim::CFG_ROTATE_LSB, 3), 0b001);
+        for k in 0..2 {
+            assert_eq!(field(dim::CFG_SPH_BITS_LSB + 3 * k, 3), c.sphere_bits[k].code());
+        }
+        // The floor (y, facing +) and the back wall (z, facing -).
+        assert_eq!(field(dim::CFG_PLN_AXIS_LSB, 4), 1 | 2 << 2);
+        assert_eq!(field(dim::CFG_PLN_NEG_LSB, 2), 0b10);
+        assert_eq!(field(dim::CFG_PLN_BITS_LSB, 6), c.plane_bits[0].code() | c.plane_bits[1].code() << 3);
+        // Nothing beyond the last field.
+        assert_eq!(w >> (dim::CFG_PLN_NEG_LSB + MAX_PLANES), 0);
     }
 }
