@@ -392,20 +392,15 @@ module pp_ctrl (
         end
     endfunction
 
-    // Box test: lane i of diff = N_i d_j - F_j d_i, j = i + shift (box_hit,
-    // separated).
-    function separated(input [2:0] pos, input [2:0] neg, input [2:0] sign, input [1:0] shift);
-        integer i;
-        reg [1:0] j;
-        begin
-            separated = 1'b0;
-            for (i = 0; i < 3; i = i + 1) begin
-                j = (i[1:0] + shift >= 2'd3) ? i[1:0] + shift - 2'd3 : i[1:0] + shift;
-                if (sign[i] == sign[j] ? pos[i] : neg[i])
-                    separated = 1'b1;
-            end
-        end
+    // Box test (box_hit, separated): lane i of the difference is
+    // N_i d_j - F_j d_i with j = i + shift; it proves t_near_i > t_far_j if
+    // it is > 0 where d_i and d_j have the same sign, < 0 where they differ.
+    // sign_j is the direction's sign vector rotated by shift lanes.
+    function separated(input [2:0] pos, input [2:0] neg, input [2:0] sign, input [2:0] sign_j);
+        separated = |((pos & ~(sign ^ sign_j)) | (neg & (sign ^ sign_j)));
     endfunction
+    wire [2:0] dsign_r1 = {dsign_q[0], dsign_q[2], dsign_q[1]};  // lane i: sign of d_(i+1)
+    wire [2:0] dsign_r2 = {dsign_q[1], dsign_q[0], dsign_q[2]};  // lane i: sign of d_(i+2)
 
     wire [3:0] sph_first = sphere_from(4'd0, n_sph, excl_q && obj_kind_q == K_SPH, obj_idx_q);
     wire [3:0] sph_next  = sphere_from({1'b0, idx_q} + 4'd1, n_sph, excl_q && obj_kind_q == K_SPH, obj_idx_q);
@@ -720,11 +715,11 @@ module pp_ctrl (
                 `ISA_ST_BOX_BEHIND: if (|y_neg) spheres_done; else st_d = `ISA_ST_BOX_P1;
                 `ISA_ST_BOX_P1:     st_d = `ISA_ST_BOX_Q1;
                 `ISA_ST_BOX_Q1:     st_d = `ISA_ST_BOX_D1;
-                `ISA_ST_BOX_D1: if (separated(y_pos, y_neg, dsign_q, 2'd1)) spheres_done;
+                `ISA_ST_BOX_D1: if (separated(y_pos, y_neg, dsign_q, dsign_r1)) spheres_done;
                                 else st_d = `ISA_ST_BOX_P2;
                 `ISA_ST_BOX_P2:     st_d = `ISA_ST_BOX_Q2;
                 `ISA_ST_BOX_Q2:     st_d = `ISA_ST_BOX_D2;
-                `ISA_ST_BOX_D2: if (separated(y_pos, y_neg, dsign_q, 2'd2)) spheres_done;
+                `ISA_ST_BOX_D2: if (separated(y_pos, y_neg, dsign_q, dsign_r2)) spheres_done;
                                 else sphere_at(sph_first[2:0]);
                 // sphere_u
                 `ISA_ST_SPH_V:      call_dot(T_V, ray_d_q, T_Q, R_SPH);
