@@ -1,17 +1,23 @@
 //! `verilator --lint-only -Wall` is clean on every top module of rtl/, with
-//! every METHOD, using the Verilator the models were built with.
+//! every METHOD and with and without the trace port, using the Verilator the
+//! models were built with. Every file of rtl/fp and rtl/pp is read each time,
+//! as a reviewer would lint the tree.
 
 use std::path::Path;
 use std::process::Command;
 
 fn lint(top: &str, params: &[&str]) {
     let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
-    let fp = rtl.join("fp");
-    let mut files: Vec<_> = std::fs::read_dir(&fp)
-        .expect("reading rtl/fp")
-        .map(|e| e.expect("listing rtl/fp").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "v"))
-        .collect();
+    let dirs = [rtl.join("fp"), rtl.join("pp")];
+    let mut files = Vec::new();
+    for dir in &dirs {
+        let listing = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
+        files.extend(
+            listing
+                .map(|e| e.expect("listing rtl/").path())
+                .filter(|p| p.extension().is_some_and(|x| x == "v")),
+        );
+    }
     files.sort();
     let mut cmd = Command::new(env!("RTCOSIM_VERILATOR_BIN"));
     let root = env!("RTCOSIM_VERILATOR_ROOT");
@@ -20,7 +26,7 @@ fn lint(top: &str, params: &[&str]) {
     }
     let out = cmd
         .args(["--lint-only", "-Wall", "--top-module", top])
-        .arg(format!("-I{}", fp.display()))
+        .args(dirs.iter().map(|d| format!("-I{}", d.display())))
         .args(params)
         .args(&files)
         .output()
@@ -52,4 +58,14 @@ fn multi_cycle_units_lint_clean_with_every_method() {
 fn the_whole_float_unit_tree_lints_clean_as_one_design() {
     // What a reviewer runs over rtl/: every file at once, fp_units on top.
     lint("fp_units", &[]);
+}
+
+#[test]
+fn the_pixel_processor_lints_clean_with_and_without_its_trace_port() {
+    for method in golden::fp::Method::ALL {
+        let recip = format!("-GRECIP_METHOD={}", method.code());
+        let sqrt = format!("-GSQRT_METHOD={}", method.code());
+        lint("pixel_processor", &[&recip, &sqrt]);
+        lint("pixel_processor", &[&recip, &sqrt, "-DPP_TRACE"]);
+    }
 }

@@ -151,7 +151,7 @@ module pixel_processor #(
     assign trace_value = alu_wd & {{32{wmask[2]}}, {32{wmask[1]}}, {32{wmask[0]}}};
 `else
     // Without the trace port the write-port signals only feed the memory.
-    wire unused_trace = ^{alu_we, alu_wa, alu_wd};
+    wire unused_trace = ^{alu_we, alu_wa, alu_wd, state};
 `endif
 
 endmodule
