@@ -1,7 +1,8 @@
 //! The cxx bridge to the verilated models (C++ side in `harness/cpp/`).
 //!
-//! The C++ side runs the clock loop over whole batches of operands, so one FFI
-//! call covers thousands of evaluations. Every model has its own
+//! The C++ side runs the clock loop over whole batches of operands (float
+//! units) or a whole pixel (the pixel processor), so one FFI call covers
+//! thousands of evaluations. Every model has its own
 //! `VerilatedContext`; the handles are `!Send` (cxx opaque types), which keeps
 //! each model on the thread that built it, as Verilator requires.
 
@@ -17,6 +18,47 @@ pub(crate) mod ffi {
         RecipFast,
         SqrtExact,
         SqrtFast,
+    }
+
+    /// One trace event as the RTL's debug port shows it (the pixel and the
+    /// sequence number are the caller's to add).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    struct PpEvent {
+        state: u16,
+        dst: u8,
+        lanes: u8,
+        values: [u32; 3],
+    }
+
+    /// How a pixel's clock loop ended.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    enum PpStatus {
+        /// done was high (the result is valid).
+        Done,
+        /// No done within the timeout.
+        Timeout,
+        /// ready went high (the controller is in IDLE) without done.
+        Idle,
+    }
+
+    /// One pixel's run on the verilated pixel processor.
+    #[derive(Debug, Clone, Copy)]
+    struct PpRun {
+        status: PpStatus,
+        /// rgb in the done cycle, lanes r, g, b.
+        rgb: [u32; 3],
+        /// Sampled cycles with ready low, up to and including the done cycle.
+        cycles: u64,
+        /// Sampled cycles after the start edge, whatever ready said.
+        edges: u64,
+        /// trace_valid cycles (counted also when the events are not kept).
+        events: u64,
+        /// The state of the last trace event, if there was one, and its cycle.
+        has_last_state: bool,
+        last_state: u16,
+        last_state_cycle: u64,
+        /// trace_state in the last cycle sampled.
+        state_port: u16,
     }
 
     unsafe extern "C++" {
@@ -42,5 +84,47 @@ pub(crate) mod ffi {
             cycles: &mut [u32],
             timeout_cycles: u32,
         ) -> Result<()>;
+    }
+
+    unsafe extern "C++" {
+        include!("pixel_proc.h");
+
+        /// One verilated pixel processor (trace and fault ports included).
+        type PixelProc;
+
+        /// Builds and resets the variant verilated with these method codes
+        /// (`golden::fp::Method::code`). Fails if that pair was not built.
+        fn new_pixel_proc(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<PixelProc>>;
+
+        /// Holds rst_n low for two clock edges, releases it for one; fails
+        /// unless ready is then high.
+        fn reset(self: Pin<&mut PixelProc>) -> Result<()>;
+
+        /// One scene-port write (register `addr`, or the configuration word
+        /// when `cfg`) at a rising edge; fails unless ready.
+        fn write_scene(
+            self: Pin<&mut PixelProc>,
+            cfg: bool,
+            addr: u8,
+            x: u32,
+            y: u32,
+            z: u32,
+        ) -> Result<()>;
+
+        /// Drives fault_state and fault_xor from now on (0 disables).
+        fn set_fault(self: Pin<&mut PixelProc>, state: u16, xor_mask: u32);
+
+        /// Runs pixel (px, py) to done, a timeout after `timeout_cycles`
+        /// cycles, or the controller back in IDLE without done; appends the
+        /// trace events to `events` when `trace`. Fails when not ready at
+        /// the start, or on a fatal error inside the model.
+        fn run_pixel(
+            self: Pin<&mut PixelProc>,
+            px: u16,
+            py: u16,
+            trace: bool,
+            events: &mut Vec<PpEvent>,
+            timeout_cycles: u64,
+        ) -> Result<PpRun>;
     }
 }

@@ -5,11 +5,17 @@
 //! - [`operands`]: TestFloat-style edge cases and seeded random operands.
 //! - [`fp_check`]: runs operands through a unit and its golden model and
 //!   reports every disagreement, measured in ULPs.
+//! - [`pixel_proc`]: the verilated pixel processor, one pixel per call, with
+//!   its trace and fault-injection ports.
+//! - [`cosim`]: the pixel processor against the golden micro-op model,
+//!   event by event, cycle for cycle, streaming.
 
 mod bridge;
+pub mod cosim;
 pub mod fp_check;
 pub mod fp_unit;
 pub mod operands;
+pub mod pixel_proc;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

@@ -11,6 +11,7 @@
 
 #include "rtcosim/harness/bridge.rs.h"
 #include "verilated.h"
+#include "verilated_owned.h"
 
 #include "Vfp_add.h"
 #include "Vfp_itof.h"
@@ -30,21 +31,6 @@ void check_lengths(const char* name, std::size_t a, std::size_t b, std::size_t y
                                     ", cycles " + std::to_string(c) + ")");
     }
 }
-
-// The model and its own context; destroyed model-first.
-template <class M>
-struct Owned {
-    std::unique_ptr<VerilatedContext> context{new VerilatedContext};
-    std::unique_ptr<M> model;
-    Owned() {
-        context->fatalOnError(true);
-        model.reset(new M(context.get(), "TOP"));
-    }
-    ~Owned() {
-        if (model) model->final();
-        model.reset();
-    }
-};
 
 template <class M, bool Binary>
 class CombUnit final : public FpUnit {
@@ -113,12 +99,6 @@ private:
         m.eval();
         m.clk = 1;
         m.eval();
-    }
-    static std::string hex(std::uint32_t v) {
-        static const char* digits = "0123456789abcdef";
-        std::string s = "0x";
-        for (int shift = 28; shift >= 0; shift -= 4) s += digits[(v >> shift) & 0xF];
-        return s;
     }
 
     const char* name_;

@@ -1,0 +1,37 @@
+// The verilated pixel processor (rtl/pp/pixel_processor.v), one model per
+// (recip, sqrt) method pair, driven a whole pixel per call from Rust
+// (bridge.rs, pixel_proc.rs).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "rust/cxx.h"
+
+namespace rtcosim {
+
+struct PpEvent;
+struct PpRun;
+
+class PixelProc {
+public:
+    virtual ~PixelProc() = default;
+    // rst_n low for two clock edges, then high for one; throws unless ready.
+    virtual void reset() = 0;
+    // One scene-port write at a rising edge (scene_we high while ready).
+    virtual void write_scene(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) = 0;
+    // Drives the fault-injection inputs from now on (xor 0 disables).
+    virtual void set_fault(std::uint16_t state, std::uint32_t xor_mask) = 0;
+    // Runs one pixel: start at a rising edge while ready, then clock until
+    // done (or a timeout, or the controller back in IDLE without done),
+    // sampling the outputs before each rising edge. Appends the trace events
+    // to `events` when `trace` is set.
+    virtual PpRun run_pixel(std::uint16_t px, std::uint16_t py, bool trace, rust::Vec<PpEvent>& events,
+                            std::uint64_t timeout_cycles) = 0;
+};
+
+// Builds and resets the variant verilated with these method codes
+// (rtl/fp/fp_defs.vh); throws if that pair was not built.
+std::unique_ptr<PixelProc> new_pixel_proc(std::uint32_t recip_method, std::uint32_t sqrt_method);
+
+}  // namespace rtcosim

@@ -1,0 +1,38 @@
+// What every C++ driver of a verilated model shares: the model with its own
+// VerilatedContext, and hex formatting for error messages.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "verilated.h"
+
+namespace rtcosim {
+
+// The model and its own context; destroyed model-first. One per driver
+// object, so models on different threads share nothing.
+template <class M>
+struct Owned {
+    std::unique_ptr<VerilatedContext> context{new VerilatedContext};
+    std::unique_ptr<M> model;
+    Owned() {
+        context->fatalOnError(true);
+        model.reset(new M(context.get(), "TOP"));
+    }
+    ~Owned() {
+        if (model) model->final();
+        model.reset();
+    }
+    Owned(const Owned&) = delete;
+    Owned& operator=(const Owned&) = delete;
+};
+
+inline std::string hex(std::uint32_t v) {
+    static const char* digits = "0123456789abcdef";
+    std::string s = "0x";
+    for (int shift = 28; shift >= 0; shift -= 4) s += digits[(v >> shift) & 0xF];
+    return s;
+}
+
+}  // namespace rtcosim

@@ -1,0 +1,346 @@
+//! The verilated pixel processor (`rtl/pp/pixel_processor.v`), one model per
+//! (recip, sqrt) method pair, verilated with its trace and fault ports
+//! (`PP_TRACE`).
+//!
+//! # The cycle contract
+//!
+//! After reset (rst_n low for two rising edges) `ready` is high. A scene is
+//! loaded by writing every `(addr, bits)` of
+//! [`golden::micro::loader::scene_writes`] with `scene_cfg = 0`, then
+//! [`Config::word`](golden::micro::loader::Config::word) with `scene_cfg = 1`,
+//! each at a rising edge with `scene_we` high while ready. A pixel starts at
+//! the rising edge where `start && ready`; from there, every cycle with
+//! `ready` low, up to and including the one with `done` high, is one of the
+//! pixel's cycles, which must equal golden's
+//! [`PixelResult::cycles`](golden::micro::PixelResult::cycles). Outputs
+//! (`done`, `rgb`, the trace port) are sampled with clk low, before each
+//! rising edge: one trace event per `trace_valid` cycle, in order.
+//!
+//! The C++ driver (`harness/cpp/pixel_proc.cpp`) runs a whole pixel per FFI
+//! call. A pixel that does not finish (no `done` within the timeout, or
+//! `ready` high again without `done`) comes back as a status rather than a
+//! C++ exception, so that [`PpError::Hung`] can name the pixel, the cycles
+//! and the last state with golden's state table; fatal errors inside the
+//! model (`$stop`, `$fatal`) and port-protocol violations are exceptions
+//! ([`PpError::Model`]).
+
+use crate::bridge::ffi;
+use cxx::UniquePtr;
+use golden::fp::Method;
+use golden::micro::isa;
+use golden::micro::loader::{self, Config};
+use golden::scene::Scene;
+use golden::trace::TraceEvent;
+
+/// What one pixel returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RtlPixel {
+    /// `rgb` in the done cycle, as raw f32 bits, lanes r, g, b.
+    pub rgb: [u32; 3],
+    /// Cycles with `ready` low from the start edge to done inclusive.
+    pub cycles: u64,
+    /// Trace events (register-file writes) the pixel made.
+    pub events: u64,
+}
+
+/// Why the pixel processor did not finish a pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HangKind {
+    /// No `done` within the timeout.
+    Timeout,
+    /// `ready` rose (the controller went back to IDLE) without `done`.
+    IdleWithoutDone,
+}
+
+/// Errors from the verilated pixel processor.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PpError {
+    /// The model could not be built (e.g. that method pair was not verilated).
+    #[error("cannot build the verilated pixel processor (recip {recip}, sqrt {sqrt}): {message}")]
+    Build {
+        recip: Method,
+        sqrt: Method,
+        message: String,
+    },
+    /// The scene was made for other float methods than the model's.
+    #[error(
+        "the scene uses recip {scene_recip} and sqrt {scene_sqrt}, but this pixel processor \
+         was verilated with recip {recip} and sqrt {sqrt}"
+    )]
+    MethodMismatch {
+        scene_recip: Method,
+        scene_sqrt: Method,
+        recip: Method,
+        sqrt: Method,
+    },
+    /// A pixel before any scene was loaded.
+    #[error("no scene is loaded into the pixel processor")]
+    NoScene,
+    /// A pixel outside the loaded scene's image.
+    #[error("pixel ({x}, {y}) is outside the loaded scene's {width}x{height} image")]
+    OutsideImage {
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+    },
+    /// The RTL did not finish a pixel.
+    #[error(
+        "hung RTL at pixel ({x}, {y}): {} after {cycles} cycles; last state seen: {}; \
+         trace_state in the last cycle: {}",
+        match kind {
+            HangKind::Timeout => "no done",
+            HangKind::IdleWithoutDone => "the controller went back to IDLE without done",
+        },
+        match last_state {
+            Some((s, at)) => format!("{} (an event in cycle {at})", state_label(*s)),
+            None => "none (no trace event)".to_string(),
+        },
+        state_label(*state_port)
+    )]
+    Hung {
+        x: u32,
+        y: u32,
+        kind: HangKind,
+        /// Cycles simulated after the start edge.
+        cycles: u64,
+        /// The state of the last trace event and the cycle it came in.
+        last_state: Option<(u16, u64)>,
+        /// `trace_state` in the last cycle simulated.
+        state_port: u16,
+    },
+    /// The model failed: a fatal error inside it, or a port protocol
+    /// violation (not ready when it must be).
+    #[error("verilated pixel processor failed{}: {message}", match pixel {
+        Some((x, y)) => format!(" at pixel ({x}, {y})"),
+        None => String::new(),
+    })]
+    Model {
+        pixel: Option<(u32, u32)>,
+        message: String,
+    },
+    /// An earlier error left the model mid-pixel.
+    #[error(
+        "an earlier error left the pixel processor in an unknown state; reset it and load the scene again"
+    )]
+    Poisoned,
+}
+
+/// `NAME (id)` from the ISA's state table, or `state#id`.
+pub fn state_label(id: u16) -> String {
+    match isa::state_name(id) {
+        Some(name) => format!("{name} ({id})"),
+        None => format!("state#{id}"),
+    }
+}
+
+/// Cycles a pixel may take before it counts as hung. The slowest pixel of
+/// any builtin scene takes well under 10,000.
+pub const DEFAULT_TIMEOUT_CYCLES: u64 = 100_000;
+
+#[derive(Debug, Clone, Copy)]
+struct Loaded {
+    width: u32,
+    height: u32,
+}
+
+/// One verilated pixel processor with its own `VerilatedContext`. Not
+/// `Send`: a model stays on the thread that built it.
+///
+/// ```compile_fail
+/// fn send<T: Send>() {}
+/// send::<rtcosim::pixel_proc::PixelProcessor>();
+/// ```
+pub struct PixelProcessor {
+    recip: Method,
+    sqrt: Method,
+    inner: UniquePtr<ffi::PixelProc>,
+    scene: Option<Loaded>,
+    fault: Option<(u16, u32)>,
+    timeout_cycles: u64,
+    poisoned: bool,
+    scratch: Vec<ffi::PpEvent>,
+}
+
+impl PixelProcessor {
+    /// Builds and resets the variant verilated with `RECIP_METHOD = recip`
+    /// and `SQRT_METHOD = sqrt`.
+    pub fn new(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
+        let inner = ffi::new_pixel_proc(recip.code(), sqrt.code()).map_err(|e| PpError::Build {
+            recip,
+            sqrt,
+            message: e.what().to_string(),
+        })?;
+        Ok(PixelProcessor {
+            recip,
+            sqrt,
+            inner,
+            scene: None,
+            fault: None,
+            timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+            poisoned: false,
+            scratch: Vec::new(),
+        })
+    }
+
+    /// The methods the model was verilated with: (recip, sqrt).
+    pub fn methods(&self) -> (Method, Method) {
+        (self.recip, self.sqrt)
+    }
+
+    /// Cycles a pixel may take before [`PpError::Hung`].
+    pub fn timeout_cycles(&self) -> u64 {
+        self.timeout_cycles
+    }
+
+    /// Sets the cycles a pixel may take before [`PpError::Hung`] (at least 1).
+    pub fn set_timeout_cycles(&mut self, cycles: u64) {
+        self.timeout_cycles = cycles.max(1);
+    }
+
+    /// Resets the model (rst_n low for two edges). The scene is forgotten:
+    /// load one again. Clears the state an error left behind. The fault
+    /// setting is kept.
+    pub fn reset(&mut self) -> Result<(), PpError> {
+        self.scene = None;
+        self.poisoned = true;
+        self.inner.pin_mut().reset().map_err(|e| PpError::Model {
+            pixel: None,
+            message: e.what().to_string(),
+        })?;
+        self.poisoned = false;
+        Ok(())
+    }
+
+    /// Resets the model and loads `scene` through the scene port. Refuses a
+    /// scene whose recip/sqrt methods are not the model's.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+        let r = &scene.render;
+        if (r.recip, r.sqrt) != (self.recip, self.sqrt) {
+            return Err(PpError::MethodMismatch {
+                scene_recip: r.recip,
+                scene_sqrt: r.sqrt,
+                recip: self.recip,
+                sqrt: self.sqrt,
+            });
+        }
+        self.reset()?;
+        self.poisoned = true;
+        let fail = |e: cxx::Exception| PpError::Model {
+            pixel: None,
+            message: e.what().to_string(),
+        };
+        for (addr, [x, y, z]) in loader::scene_writes(scene) {
+            self.inner
+                .pin_mut()
+                .write_scene(false, addr, x, y, z)
+                .map_err(fail)?;
+        }
+        let [x, y, z] = Config::new(scene).word();
+        self.inner
+            .pin_mut()
+            .write_scene(true, 0, x, y, z)
+            .map_err(fail)?;
+        self.poisoned = false;
+        self.scene = Some(Loaded {
+            width: scene.camera.width,
+            height: scene.camera.height,
+        });
+        Ok(())
+    }
+
+    /// From the next pixel on, a register-file write in state `state` has
+    /// its lane x XORed with `xor` (written and traced). `xor = 0` disables.
+    pub fn set_fault(&mut self, state: u16, xor: u32) {
+        self.fault = (xor != 0).then_some((state, xor));
+        self.inner.pin_mut().set_fault(state, xor);
+    }
+
+    /// The fault set by [`PixelProcessor::set_fault`]: (state, xor).
+    pub fn fault(&self) -> Option<(u16, u32)> {
+        self.fault
+    }
+
+    /// Runs pixel (px, py) of the loaded scene. With `trace`, appends the
+    /// pixel's events (x, y = the pixel, seq from 0).
+    pub fn run_pixel(
+        &mut self,
+        px: u32,
+        py: u32,
+        trace: Option<&mut Vec<TraceEvent>>,
+    ) -> Result<RtlPixel, PpError> {
+        if self.poisoned {
+            return Err(PpError::Poisoned);
+        }
+        let loaded = self.scene.ok_or(PpError::NoScene)?;
+        if px >= loaded.width || py >= loaded.height {
+            return Err(PpError::OutsideImage {
+                x: px,
+                y: py,
+                width: loaded.width,
+                height: loaded.height,
+            });
+        }
+        self.scratch.clear();
+        // Both fit: scenes are at most MAX_IMAGE_SIDE = 4096 wide and high.
+        let (x, y) = (px as u16, py as u16);
+        self.poisoned = true;
+        let run = self
+            .inner
+            .pin_mut()
+            .run_pixel(
+                x,
+                y,
+                trace.is_some(),
+                &mut self.scratch,
+                self.timeout_cycles,
+            )
+            .map_err(|e| PpError::Model {
+                pixel: Some((px, py)),
+                message: e.what().to_string(),
+            })?;
+        let hung = |kind| PpError::Hung {
+            x: px,
+            y: py,
+            kind,
+            cycles: run.edges,
+            last_state: run
+                .has_last_state
+                .then_some((run.last_state, run.last_state_cycle)),
+            state_port: run.state_port,
+        };
+        match run.status {
+            ffi::PpStatus::Done => {}
+            // Mid-pixel: stays poisoned until a reset.
+            ffi::PpStatus::Timeout => return Err(hung(HangKind::Timeout)),
+            // Idle again: the next pixel can start.
+            ffi::PpStatus::Idle => {
+                self.poisoned = false;
+                return Err(hung(HangKind::IdleWithoutDone));
+            }
+            other => {
+                return Err(PpError::Model {
+                    pixel: Some((px, py)),
+                    message: format!("unknown pixel status {}", other.repr),
+                })
+            }
+        }
+        self.poisoned = false;
+        if let Some(out) = trace {
+            out.extend(self.scratch.iter().enumerate().map(|(seq, e)| TraceEvent {
+                x,
+                y,
+                seq: seq as u32,
+                state: e.state,
+                dst: e.dst,
+                lanes: e.lanes,
+                values: e.values,
+            }));
+        }
+        Ok(RtlPixel {
+            rgb: run.rgb,
+            cycles: run.cycles,
+            events: run.events,
+        })
+    }
+}

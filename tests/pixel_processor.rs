@@ -1,0 +1,411 @@
+//! Co-simulation of the verilated pixel processor (rtl/pp/pixel_processor.v)
+//! against the golden micro-op model (golden::micro): every trace event, the
+//! cycle count and the colour of every pixel, bit for bit.
+//!
+//! The frame tests run every builtin scene, reduced so the whole file stays
+//! within about a minute, with whole frames (so every silhouette, shadow edge
+//! and horizon of the scene is in): reference, mirror and parallel_plane at
+//! 80x60, grazing at its own 96x72, light_touch at 64x48 and box_room (about
+//! 1460 cycles a pixel) at 40x30: about 6.3 million golden cycles per method
+//! pair. `cargo test --release -- --ignored` adds the full 800x600 reference
+//! frame.
+//!
+//! The tests marked "any design" hold for any pixel processor with the right
+//! ports and protocol (they also pass on a placeholder); the others need the
+//! real design. Lint lives in rtl_lint.rs.
+
+use golden::fp::{Method, UlpDistance};
+use golden::micro::isa::{self, state};
+use golden::scene::Scene;
+use golden::trace::TraceEvent;
+use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, DivergenceKind, Fault, Window};
+use rtcosim::pixel_proc::{HangKind, PixelProcessor, PpError};
+
+/// The method pairs every scene is co-simulated with.
+const METHODS: [(Method, Method); 2] =
+    [(Method::Exact, Method::Exact), (Method::Fast, Method::Fast)];
+
+/// `scene` with other recip and sqrt methods (validated again).
+fn with_methods(scene: &Scene, recip: Method, sqrt: Method) -> Scene {
+    let mut render = scene.render;
+    render.recip = recip;
+    render.sqrt = sqrt;
+    Scene::new(
+        "test scene",
+        scene.camera.clone(),
+        scene.light.clone(),
+        scene.spheres.clone(),
+        scene.planes.clone(),
+        render,
+    )
+    .expect("only the methods changed")
+}
+
+fn builtin(name: &str, width: u32, height: u32) -> Scene {
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("builtin scene {name}"))
+        .resized(width, height, name)
+        .expect("a smaller image of a valid scene is valid")
+}
+
+fn cosim_all(scene: &Scene, window: Window) -> CosimReport {
+    cosim::run(scene, window, &CosimOptions::default(), &|_| {})
+        .unwrap_or_else(|e| panic!("co-simulation failed: {e}"))
+}
+
+fn assert_agrees(report: &CosimReport, pixels: u64) {
+    assert_eq!(report.pixels, pixels, "pixels run\n{report}");
+    assert!(report.events_compared > 0, "no events compared\n{report}");
+    assert!(
+        report.divergent_pixels == 0 && report.first_divergence.is_none(),
+        "{report}"
+    );
+    assert_eq!(report.rtl_events, report.golden_events, "{report}");
+    assert_eq!(report.events_compared, report.golden_events, "{report}");
+    assert_eq!(report.rtl_cycles, report.golden_cycles, "{report}");
+    assert!(report.passed(), "{report}");
+}
+
+/// Whole (reduced) frames of a builtin scene agree with both method pairs.
+fn frame_agrees(name: &str, width: u32, height: u32) {
+    let base = builtin(name, width, height);
+    for (recip, sqrt) in METHODS {
+        let scene = with_methods(&base, recip, sqrt);
+        let report = cosim_all(&scene, Window::full(&scene));
+        assert_agrees(&report, u64::from(width) * u64::from(height));
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The real design against golden
+// ---------------------------------------------------------------------------
+
+#[test]
+fn reference_frame_agrees() {
+    frame_agrees("reference", 80, 60);
+}
+
+#[test]
+fn mirror_frame_agrees() {
+    frame_agrees("mirror", 80, 60);
+}
+
+#[test]
+fn grazing_frame_agrees() {
+    frame_agrees("grazing", 96, 72);
+}
+
+#[test]
+fn light_touch_frame_agrees() {
+    frame_agrees("light_touch", 64, 48);
+}
+
+#[test]
+fn parallel_plane_frame_agrees() {
+    frame_agrees("parallel_plane", 80, 60);
+}
+
+#[test]
+fn box_room_frame_agrees() {
+    frame_agrees("box_room", 40, 30);
+}
+
+#[test]
+fn every_builtin_scene_has_a_frame_test() {
+    let tested = [
+        "reference",
+        "mirror",
+        "grazing",
+        "light_touch",
+        "parallel_plane",
+        "box_room",
+    ];
+    for name in Scene::builtin_names() {
+        assert!(tested.contains(name), "no frame test for builtin {name}");
+    }
+}
+
+/// Mixed method pairs: catches RECIP_METHOD and SQRT_METHOD swapped on the
+/// way down, which (exact, exact) and (fast, fast) cannot see.
+#[test]
+fn mixed_method_pairs_agree() {
+    let base = builtin("reference", 40, 30);
+    for (recip, sqrt) in [(Method::Exact, Method::Fast), (Method::Fast, Method::Exact)] {
+        let scene = with_methods(&base, recip, sqrt);
+        assert_agrees(&cosim_all(&scene, Window::full(&scene)), 1200);
+    }
+}
+
+/// An injected fault is caught exactly where it is made: the first pixel of
+/// the window, the golden event index of the state's first write, that
+/// state on both sides, the golden source line of that write, and lane x
+/// off by the flipped bit.
+#[test]
+fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
+    let scene = builtin("reference", 40, 30);
+    let window = Window::new(17, 11, 6, 4);
+    // A single-cycle and a multi-cycle state that every pixel visits.
+    for fault_state in [state::PRI_HALF, state::NORM_SQRT] {
+        let xor = 1 << 10;
+        let mut first = None;
+        golden::micro::render_pixel(&scene, window.x, window.y, |e, at| {
+            if e.state == fault_state && first.is_none() {
+                first = Some((e.seq, at));
+            }
+        });
+        let (seq, line) = first.expect("every pixel visits the state");
+        let options = CosimOptions {
+            fault: Some(Fault {
+                state: fault_state,
+                xor,
+            }),
+            ..CosimOptions::default()
+        };
+        let report = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
+        let name = isa::state_name(fault_state).expect("named");
+        let d = report
+            .first_divergence
+            .unwrap_or_else(|| panic!("a fault in {name} went unnoticed\n{report}"));
+        assert_eq!((d.x, d.y), (window.x, window.y), "{report}");
+        assert_eq!(d.seq(), Some(seq), "{report}");
+        let DivergenceKind::Event { rtl, golden, at } = d.kind else {
+            panic!("not an event divergence\n{report}");
+        };
+        assert_eq!((rtl.state, golden.state), (fault_state, fault_state));
+        assert_eq!((rtl.dst, rtl.lanes), (golden.dst, golden.lanes));
+        assert_eq!(rtl.values[0], golden.values[0] ^ xor, "{report}");
+        assert_eq!(at, line);
+        assert!(
+            d.max_distance().is_some_and(|u| u > UlpDistance::Ulps(0)),
+            "{report}"
+        );
+        // Every pixel writes in that state.
+        assert_eq!(report.divergent_pixels, window.pixels(), "{report}");
+        let text = report.to_string();
+        assert!(
+            text.contains(&format!("RTL state {name} ({fault_state})")),
+            "{text}"
+        );
+        assert!(
+            text.contains(&format!("{}:{}", line.file(), line.line())),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+#[ignore = "the full 800x600 reference frame, both method pairs: minutes"]
+fn full_reference_frame_agrees() {
+    for (recip, sqrt) in METHODS {
+        let scene = with_methods(&Scene::reference(), recip, sqrt);
+        let start = std::time::Instant::now();
+        let report = cosim_all(&scene, Window::full(&scene));
+        println!("{report}\n({:.1} s)", start.elapsed().as_secs_f64());
+        assert_agrees(&report, 800 * 600);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Any design with the right ports and protocol
+// ---------------------------------------------------------------------------
+
+fn loaded(scene: &Scene) -> PixelProcessor {
+    let mut pp = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model builds");
+    pp.load_scene(scene).expect("scene loads");
+    pp
+}
+
+/// Any design: events carry the pixel and their index, their count and the
+/// cycles agree with the result, and tracing changes nothing.
+#[test]
+fn trace_events_are_numbered_and_counted() {
+    let scene = builtin("reference", 40, 30);
+    let mut pp = loaded(&scene);
+    let mut events = Vec::new();
+    let traced = pp.run_pixel(21, 13, Some(&mut events)).expect("runs");
+    assert_eq!(traced.events, events.len() as u64);
+    for (i, e) in events.iter().enumerate() {
+        assert_eq!((e.x, e.y, e.seq), (21, 13, i as u32), "{e:?}");
+        assert!(e.lanes != 0 && e.lanes <= 0b111, "{e:?}");
+    }
+    // PIX_START and PIX_DONE write nothing; every write takes a cycle.
+    assert!(traced.cycles >= traced.events + 2, "{traced:?}");
+    assert_eq!(pp.run_pixel(21, 13, None).expect("runs"), traced);
+}
+
+/// Any design: a pixel's result does not depend on the pixels before it,
+/// nor on a fault that was switched off again.
+#[test]
+fn pixels_do_not_depend_on_history() {
+    let scene = builtin("reference", 40, 30);
+    let mut pp = loaded(&scene);
+    let run = |pp: &mut PixelProcessor, x, y| {
+        let mut events: Vec<TraceEvent> = Vec::new();
+        let r = pp.run_pixel(x, y, Some(&mut events)).expect("runs");
+        (r, events)
+    };
+    let first = run(&mut pp, 20, 20);
+    run(&mut pp, 3, 4);
+    run(&mut pp, 39, 29);
+    assert_eq!(run(&mut pp, 20, 20), first);
+    pp.set_fault(state::PRI_HALF, 1 << 10);
+    run(&mut pp, 20, 20);
+    pp.set_fault(state::PRI_HALF, 0);
+    assert_eq!(run(&mut pp, 20, 20), first);
+    assert_eq!(
+        loaded(&scene).run_pixel(20, 20, None).expect("runs"),
+        first.0
+    );
+}
+
+/// Any design: the report is the same whatever the number of threads (with
+/// a fault, so there are divergences to order).
+#[test]
+fn the_report_does_not_depend_on_the_thread_count() {
+    let scene = builtin("reference", 40, 30);
+    let window = Window::new(4, 3, 20, 12);
+    let options = CosimOptions {
+        fault: Some(Fault {
+            state: state::NORM_SCALE,
+            xor: 1 << 3,
+        }),
+        ..CosimOptions::default()
+    };
+    let with_threads = |n: usize| -> CosimReport {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("pool");
+        let done = std::sync::atomic::AtomicU64::new(0);
+        let report = pool
+            .install(|| {
+                cosim::run(&scene, window, &options, &|n| {
+                    done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                })
+            })
+            .expect("runs");
+        assert_eq!(done.into_inner(), window.pixels(), "progress adds up");
+        report
+    };
+    let one = with_threads(1);
+    assert_eq!(one.pixels, window.pixels());
+    assert!(one.first_divergence.is_some(), "{one}");
+    assert_eq!(with_threads(3), one);
+}
+
+/// Any design: a pixel outside the image is an error, never a panic, and
+/// leaves the model usable; so is a window outside the image.
+#[test]
+fn a_pixel_outside_the_image_is_an_error() {
+    let scene = builtin("reference", 40, 30);
+    let mut pp = PixelProcessor::new(Method::Exact, Method::Exact).expect("model builds");
+    assert_eq!(pp.run_pixel(0, 0, None), Err(PpError::NoScene));
+    pp.load_scene(&scene).expect("loads");
+    for (x, y) in [(40, 0), (0, 30), (u32::MAX, u32::MAX)] {
+        let err = pp.run_pixel(x, y, None).expect_err("outside");
+        assert_eq!(
+            err,
+            PpError::OutsideImage {
+                x,
+                y,
+                width: 40,
+                height: 30
+            }
+        );
+        assert!(
+            err.to_string()
+                .contains("outside the loaded scene's 40x30 image"),
+            "{err}"
+        );
+    }
+    pp.run_pixel(39, 29, None)
+        .expect("the model is still usable");
+    for window in [
+        Window::new(30, 0, 11, 1),
+        Window::new(0, 29, 1, 2),
+        Window::new(0, 0, 0, 5),
+    ] {
+        let err =
+            cosim::run(&scene, window, &CosimOptions::default(), &|_| {}).expect_err("outside");
+        assert!(matches!(err, CosimError::Window { .. }), "{err}");
+    }
+}
+
+/// Any design: a scene for other float methods than the model's is refused,
+/// naming both; every method pair is verilated.
+#[test]
+fn a_scene_with_other_methods_is_refused() {
+    let exact = builtin("reference", 40, 30);
+    assert_eq!(
+        (exact.render.recip, exact.render.sqrt),
+        (Method::Exact, Method::Exact)
+    );
+    for recip in Method::ALL {
+        for sqrt in Method::ALL {
+            let mut pp = PixelProcessor::new(recip, sqrt).expect("every pair is built");
+            assert_eq!(pp.methods(), (recip, sqrt));
+            let other = with_methods(&exact, recip, sqrt);
+            pp.load_scene(&other).expect("its own methods load");
+            for (r, s) in [(Method::Exact, Method::Exact), (Method::Fast, Method::Fast)] {
+                if (r, s) == (recip, sqrt) {
+                    continue;
+                }
+                let err = pp
+                    .load_scene(&with_methods(&exact, r, s))
+                    .expect_err("refused");
+                assert!(matches!(err, PpError::MethodMismatch { .. }), "{err}");
+                assert_eq!(
+                    err.to_string(),
+                    format!(
+                        "the scene uses recip {r} and sqrt {s}, but this pixel processor was \
+                         verilated with recip {recip} and sqrt {sqrt}"
+                    )
+                );
+            }
+        }
+    }
+}
+
+/// Any design: a pixel that takes longer than the timeout is a "hung RTL"
+/// error naming the pixel, the cycles and the last state; the model needs a
+/// reset afterwards. (No design input can make a correct controller hang,
+/// so the timeout is set below any pixel's cycle count: PIX_START, at least
+/// one instruction and PIX_DONE.)
+#[test]
+fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
+    let scene = builtin("reference", 40, 30);
+    let mut pp = loaded(&scene);
+    pp.set_timeout_cycles(2);
+    let err = pp
+        .run_pixel(7, 5, None)
+        .expect_err("cannot finish in 2 cycles");
+    let PpError::Hung {
+        x, y, kind, cycles, ..
+    } = err.clone()
+    else {
+        panic!("not a hang: {err}");
+    };
+    assert_eq!((x, y, kind, cycles), (7, 5, HangKind::Timeout, 2));
+    let text = err.to_string();
+    assert!(
+        text.starts_with("hung RTL at pixel (7, 5): no done after 2 cycles; last state seen: "),
+        "{text}"
+    );
+    assert_eq!(pp.run_pixel(7, 5, None), Err(PpError::Poisoned));
+    pp.set_timeout_cycles(rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES);
+    pp.load_scene(&scene).expect("a reset and a reload recover");
+    pp.run_pixel(7, 5, None).expect("runs");
+
+    let options = CosimOptions {
+        timeout_cycles: 2,
+        ..CosimOptions::default()
+    };
+    let window = Window::new(3, 2, 4, 4);
+    match cosim::run(&scene, window, &options, &|_| {}) {
+        Err(CosimError::Rtl(PpError::Hung { x, y, .. })) => {
+            assert_eq!(x, window.x, "the first pixel of its row");
+            assert!((window.y..window.y + window.height).contains(&y));
+        }
+        other => panic!("expected a hung RTL error, got {other:?}"),
+    }
+}
