@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use golden::fp::Method;
 use golden::frame::Frame;
 use golden::scene::{Scene, MAX_IMAGE_SIDE};
+use golden::trace::{format_event, TraceHeader, TraceReader, TraceWriter};
 use indicatif::{ProgressBar, ProgressStyle};
 use rtcosim::fp_check::{self, CheckReport, Operands};
 use rtcosim::fp_unit::UnitKind;
@@ -25,8 +26,12 @@ enum Command {
     /// Co-simulate the float units of rtl/fp against golden::fp: edge cases,
     /// then seeded random operands (or every input, for unary units).
     FpCheck(FpCheckArgs),
-    /// Render a scene to a PNG with a golden model.
+    /// Render a scene to a PNG with a golden model (and, with --trace, write
+    /// the micro-op model's trace of a window of pixels).
     Render(RenderArgs),
+    /// Print a trace file (rtcosim render --trace) as text: one line per
+    /// register-file write, with state and register names.
+    TraceDump(TraceDumpArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -68,6 +73,21 @@ struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Also write the micro-op model's trace (every register-file write, in
+    /// pixel order) of the pixels in --trace-window to this binary trace
+    /// file; `rtcosim trace-dump` prints it. Only with --model micro.
+    #[arg(long, value_name = "FILE", requires = "trace_window")]
+    trace: Option<PathBuf>,
+    /// The pixels to trace: columns X0..=X1 and rows Y0..=Y1 (inclusive,
+    /// row 0 at the top), or X,Y for one pixel.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window, requires = "trace")]
+    trace_window: Option<Window>,
+}
+
+#[derive(clap::Args, Debug)]
+struct TraceDumpArgs {
+    /// The trace file.
+    file: PathBuf,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -100,6 +120,67 @@ fn parse_size(s: &str) -> Result<Size, String> {
         width: side(w)?,
         height: side(h)?,
     })
+}
+
+/// A rectangle of pixels, corners inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Window {
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+}
+
+impl Window {
+    fn pixels(&self) -> u64 {
+        u64::from(self.x1 - self.x0 + 1) * u64::from(self.y1 - self.y0 + 1)
+    }
+
+    /// Fails unless the window lies inside a `width`x`height` image.
+    fn check_inside(&self, width: u32, height: u32) -> Result<()> {
+        if self.x1 >= width || self.y1 >= height {
+            bail!(
+                "--trace-window {self} is outside the {width}x{height} image \
+                 (columns 0..={}, rows 0..={})",
+                width - 1,
+                height - 1
+            );
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Window {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{},{},{}", self.x0, self.y0, self.x1, self.y1)
+    }
+}
+
+fn parse_window(s: &str) -> Result<Window, String> {
+    let bad = || {
+        format!(
+            "expected X0,Y0,X1,Y1 (corners inclusive, X0 <= X1, Y0 <= Y1) or X,Y, \
+             e.g. 400,300,403,301; got {s:?}"
+        )
+    };
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<u32>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    let w = match v[..] {
+        [x, y] => Window {
+            x0: x,
+            y0: y,
+            x1: x,
+            y1: y,
+        },
+        [x0, y0, x1, y1] => Window { x0, y0, x1, y1 },
+        _ => return Err(bad()),
+    };
+    if w.x0 > w.x1 || w.y0 > w.y1 {
+        return Err(bad());
+    }
+    Ok(w)
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -152,6 +233,7 @@ fn run(cli: Cli) -> Result<bool> {
     match cli.command {
         Command::FpCheck(args) => fp_check_command(args),
         Command::Render(args) => render_command(args).map(|()| true),
+        Command::TraceDump(args) => trace_dump_command(args).map(|()| true),
     }
 }
 
@@ -175,15 +257,22 @@ fn render_command(args: RenderArgs) -> Result<()> {
         scene = scene.resized(size.width, size.height, "--size")?;
     }
     // Fail before a long render, not after it.
-    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !dir.is_dir() {
-            bail!(
-                "--out {}: no such directory {}",
-                args.out.display(),
-                dir.display()
-            );
+    check_parent_dir("--out", &args.out)?;
+    let trace = match (&args.trace, args.trace_window) {
+        (Some(path), Some(window)) => {
+            if args.model != ModelArg::Micro {
+                bail!(
+                    "--trace needs --model micro: the {} model executes no instructions to trace",
+                    args.model.name()
+                );
+            }
+            window.check_inside(scene.camera.width, scene.camera.height)?;
+            check_parent_dir("--trace", path)?;
+            Some((path.as_path(), window))
         }
-    }
+        // clap makes each require the other.
+        _ => None,
+    };
     let pool = worker_pool(args.threads)?;
     let mut out = std::io::stdout().lock();
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -226,6 +315,129 @@ fn render_command(args: RenderArgs) -> Result<()> {
         print_cycles(&mut out, &stats)?;
     }
     writeln!(out, "wrote {}", args.out.display())?;
+    if let Some((path, window)) = trace {
+        let events = write_trace(&scene, &args.scene, window, path)?;
+        writeln!(
+            out,
+            "wrote {}: {events} trace events of {} pixel{} (columns {}..={}, rows {}..={})",
+            path.display(),
+            window.pixels(),
+            if window.pixels() == 1 { "" } else { "s" },
+            window.x0,
+            window.x1,
+            window.y0,
+            window.y1
+        )?;
+    }
+    Ok(())
+}
+
+/// Fails unless the directory `path` would be written into exists.
+fn check_parent_dir(flag: &str, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            bail!(
+                "{flag} {}: no such directory {}",
+                path.display(),
+                dir.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Writes the micro-op model's trace of the pixels in `window`, row by row,
+/// left to right, to `path`; returns the number of events.
+fn write_trace(scene: &Scene, scene_arg: &str, window: Window, path: &Path) -> Result<u64> {
+    let context = || format!("--trace {}", path.display());
+    let file = std::fs::File::create(path).with_context(context)?;
+    let header = TraceHeader {
+        scene_hash: scene.content_hash(),
+        config: trace_config(scene, scene_arg, window),
+    };
+    let mut writer =
+        TraceWriter::new(std::io::BufWriter::new(file), &header).with_context(context)?;
+    let proc = golden::micro::Processor::new(scene);
+    let bar = ProgressBar::new(window.pixels()).with_style(
+        ProgressStyle::with_template("tracing   [{bar:30}] {percent:>3}% ({eta})")
+            .context("progress bar template")?
+            .progress_chars("=> "),
+    );
+    let mut events = 0;
+    for y in window.y0..=window.y1 {
+        for x in window.x0..=window.x1 {
+            let mut failed = None;
+            let r = proc.render_pixel(x, y, |e, _| {
+                if failed.is_none() {
+                    failed = writer.write(e).err();
+                }
+            });
+            if let Some(e) = failed {
+                return Err(e).with_context(context);
+            }
+            events += r.ops.register_writes;
+            bar.inc(1);
+        }
+    }
+    writer.finish().with_context(context)?;
+    bar.finish_and_clear();
+    Ok(events)
+}
+
+/// The trace header's configuration text: `key=value` pairs.
+fn trace_config(scene: &Scene, scene_arg: &str, window: Window) -> String {
+    let r = &scene.render;
+    let speedups: Vec<&str> = [
+        (r.speedups.bounding_box, "bounding_box"),
+        (r.speedups.fast_plane, "fast_plane"),
+        (r.speedups.shadow_shortcut, "shadow_shortcut"),
+    ]
+    .into_iter()
+    .filter_map(|(on, name)| on.then_some(name))
+    .collect();
+    format!(
+        "writer=rtcosim-{} model=micro scene={} size={}x{} depth={} recip={} sqrt={} speedups={} window={window}",
+        env!("CARGO_PKG_VERSION"),
+        scene_arg.replace(char::is_whitespace, "_"),
+        scene.camera.width,
+        scene.camera.height,
+        r.max_depth,
+        r.recip,
+        r.sqrt,
+        if speedups.is_empty() {
+            "none".to_string()
+        } else {
+            speedups.join(",")
+        },
+    )
+}
+
+fn trace_dump_command(args: TraceDumpArgs) -> Result<()> {
+    use golden::micro::isa;
+    let path = args.file.display();
+    let file = std::fs::File::open(&args.file).with_context(|| format!("{path}"))?;
+    let reader =
+        TraceReader::new(std::io::BufReader::new(file)).with_context(|| format!("{path}"))?;
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(
+        out,
+        "# {path}: rtcosim trace version {}, scene hash {:016x}",
+        golden::trace::VERSION,
+        reader.header().scene_hash
+    )?;
+    writeln!(out, "# {}", reader.header().config)?;
+    let mut events = 0u64;
+    for event in reader {
+        let event = event.with_context(|| format!("{path}"))?;
+        writeln!(
+            out,
+            "{}",
+            format_event(&event, &isa::state_name, &isa::register_name)
+        )?;
+        events += 1;
+    }
+    writeln!(out, "# {events} events")?;
+    out.flush()?;
     Ok(())
 }
 
@@ -497,6 +709,70 @@ mod tests {
             panic!("expected the render subcommand");
         };
         assert_eq!(args.model, ModelArg::Micro);
+    }
+
+    #[test]
+    fn trace_windows_parse_as_inclusive_corners_or_one_pixel() {
+        assert_eq!(
+            parse_window("400,300,403,301"),
+            Ok(Window {
+                x0: 400,
+                y0: 300,
+                x1: 403,
+                y1: 301
+            })
+        );
+        assert_eq!(
+            parse_window(" 7, 9"),
+            Ok(Window {
+                x0: 7,
+                y0: 9,
+                x1: 7,
+                y1: 9
+            })
+        );
+        assert_eq!(parse_window("0,0,799,599").map(|w| w.pixels()), Ok(480_000));
+        for bad in [
+            "",
+            "1",
+            "1,2,3",
+            "1,2,3,4,5",
+            "4,0,3,0",
+            "0,4,0,3",
+            "-1,0",
+            "a,b",
+        ] {
+            assert!(parse_window(bad).is_err(), "{bad:?}");
+        }
+        let w = parse_window("0,0,79,59").expect("valid");
+        assert!(w.check_inside(80, 60).is_ok());
+        assert!(w.check_inside(79, 60).is_err());
+        assert!(w.check_inside(80, 59).is_err());
+    }
+
+    #[test]
+    fn a_trace_command_line_parses() {
+        let cli = Cli::try_parse_from([
+            "rtcosim",
+            "render",
+            "--model",
+            "micro",
+            "--trace",
+            "/tmp/t.rtt",
+            "--trace-window",
+            "1,2,3,4",
+        ])
+        .expect("valid command line");
+        let Command::Render(args) = cli.command else {
+            panic!("expected the render subcommand");
+        };
+        assert_eq!(args.trace, Some(PathBuf::from("/tmp/t.rtt")));
+        assert_eq!(
+            args.trace_window.map(|w| w.to_string()),
+            Some("1,2,3,4".into())
+        );
+        let cli = Cli::try_parse_from(["rtcosim", "trace-dump", "/tmp/t.rtt"]).expect("valid");
+        assert!(matches!(cli.command, Command::TraceDump(_)));
     }
 
     #[test]

@@ -58,9 +58,18 @@ fn mean_abs_diff_255(a: &Frame, b: &Frame) -> f64 {
 /// Largest channel difference (0..255) and share of channels > 0.5/255;
 /// prints the thesis' finer thresholds too.
 fn accuracy(scene: &Scene) -> Result<(f64, f64), Box<dyn Error>> {
-    let d = micro_frame(scene).compare(&reference::render(scene, &|_| {}))?;
+    let (micro, reference) = (micro_frame(scene), reference::render(scene, &|_| {}));
+    let d = micro.compare(&reference)?;
+    // What the PNGs show: 8-bit channels that differ.
+    let png_channels = micro
+        .to_rgb8()
+        .iter()
+        .zip(reference.to_rgb8())
+        .filter(|(a, b)| *a != b)
+        .count();
     println!(
-        "  channels > 1e-5/255: {:.2}%, > 1e-4/255: {:.2}%, > 1e-3/255: {:.3}%",
+        "  channels > 1e-5/255: {:.2}%, > 1e-4/255: {:.2}%, > 1e-3/255: {:.3}%; \
+         8-bit channels differing: {png_channels}",
         100.0 * d.share_over(1e-5),
         100.0 * d.share_over(1e-4),
         100.0 * d.share_over(1e-3)
@@ -307,6 +316,51 @@ fn the_trace_has_one_named_event_per_register_write_in_sequence() -> TestResult 
     }
     println!("{} distinct states wrote registers", states.len());
     Ok(())
+}
+
+/// Tracing observes and changes nothing: a traced pixel computes exactly
+/// what an untraced one does (colour, cycles, every instruction count), and
+/// the frame `micro::render` draws untraced is the traced pixels' colours.
+/// (The model is inlined into each tracer's monomorphization separately, so
+/// this is not a tautology.)
+#[test]
+fn a_traced_render_equals_an_untraced_one() -> TestResult {
+    for name in ["reference", "mirror"] {
+        let scene = sized(name, 40, 30)?;
+        let proc = Processor::new(&scene);
+        let (frame, stats) = micro::render(&scene, &|_| {});
+        let mut traced = FrameStatsSum::default();
+        for y in 0..30 {
+            for x in 0..40 {
+                let mut events = 0u64;
+                let t = proc.render_pixel(x, y, |_: &TraceEvent, _: &_| events += 1);
+                let u = proc.render_pixel(x, y, |_, _| {});
+                assert_eq!(t, u, "{name} ({x}, {y})");
+                assert_eq!(events, t.ops.register_writes);
+                assert_eq!(frame.pixel(x, y), t.rgb.map(f64::from));
+                traced.add(&t, events);
+            }
+        }
+        assert_eq!(traced.cycles, stats.cycles);
+        assert_eq!(traced.ops, stats.ops);
+        assert_eq!(traced.events, stats.ops.register_writes);
+    }
+    Ok(())
+}
+
+#[derive(Default)]
+struct FrameStatsSum {
+    cycles: u64,
+    ops: golden::micro::OpStats,
+    events: u64,
+}
+
+impl FrameStatsSum {
+    fn add(&mut self, r: &PixelResult, events: u64) {
+        self.cycles += r.cycles;
+        self.ops.merge(&r.ops);
+        self.events += events;
+    }
 }
 
 // ---------------------------------------------------------------------------

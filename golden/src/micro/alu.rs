@@ -44,31 +44,34 @@ pub struct Written {
 }
 
 impl Written {
+    #[inline(always)]
     fn lane(&self, i: usize) -> f32 {
-        assert!(
-            self.mask >> i & 1 == 1,
-            "branching on lane {i}, which was not written (mask {:03b})",
-            self.mask
-        );
+        if self.mask >> i & 1 != 1 {
+            unwritten_flag(i, self.mask);
+        }
         self.value[i]
     }
 
     /// Sign flag and not zero and not NaN: the lane is < 0.
+    #[inline(always)]
     pub fn neg(&self, i: usize) -> bool {
         self.lane(i) < 0.0
     }
 
     /// Not sign, not zero, not NaN: the lane is > 0.
+    #[inline(always)]
     pub fn pos(&self, i: usize) -> bool {
         self.lane(i) > 0.0
     }
 
     /// The sign bit of every lane, bit i = lane i (all three written).
+    #[inline(always)]
     pub fn sign_bits(&self) -> u8 {
-        assert_eq!(self.mask, XYZ, "sign bits of a partly written vector");
-        (0..3).fold(0, |acc, i| {
-            acc | (u8::from(self.value[i].is_sign_negative()) << i)
-        })
+        if self.mask != XYZ {
+            partly_written_signs(self.mask);
+        }
+        let sign = |i: usize| u8::from(self.value[i].is_sign_negative()) << i;
+        sign(0) | sign(1) | sign(2)
     }
 
     /// The written lanes, for tests and diagnostics.
@@ -85,10 +88,36 @@ pub struct RegisterImage {
     pub valid: [u8; REGISTER_COUNT],
 }
 
+/// The register file as the core holds it: lane by lane (`lanes[i][a]` is
+/// lane i of address a), and the mask of lanes each address holds. Kept apart,
+/// the lanes of one register never share a memory word: every lane's read is
+/// a 4-byte load of what one 4-byte store wrote, so an instruction's operand
+/// is forwarded straight from the previous instruction's write instead of
+/// stalling on a load that spans a partly written register.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct LoadedImage {
+    lanes: [[u32; REGISTER_COUNT]; 3],
+    valid: [u8; REGISTER_COUNT],
+}
+
+impl LoadedImage {
+    pub(crate) fn new(image: &RegisterImage) -> LoadedImage {
+        let mut lanes = [[0; REGISTER_COUNT]; 3];
+        for (a, bits) in image.bits.iter().enumerate() {
+            for (lane, &b) in lanes.iter_mut().zip(bits) {
+                lane[a] = b;
+            }
+        }
+        LoadedImage {
+            lanes,
+            valid: image.valid,
+        }
+    }
+}
+
 /// The core executing one pixel's program.
 pub struct Core<T> {
-    bits: [[u32; 3]; REGISTER_COUNT],
-    valid: [u8; REGISTER_COUNT],
+    regs: LoadedImage,
     f: Vec3,
     f_valid: bool,
     /// The stack pointer: the level `CUR_*` addresses.
@@ -103,7 +132,15 @@ pub struct Core<T> {
     trace: T,
 }
 
+/// `[f(0), f(1), f(2)]`, spelled out (`array::map` is not always inlined,
+/// and this is the inner loop).
+#[inline(always)]
+fn lanes3(mut f: impl FnMut(usize) -> f32) -> Vec3 {
+    [f(0), f(1), f(2)]
+}
+
 /// Whether register address `a` belongs to the scene (read-only).
+#[inline(always)]
 fn is_scene(a: u8) -> bool {
     a < reg::T0
 }
@@ -119,9 +156,21 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         sqrt: Method,
         trace: T,
     ) -> Core<T> {
+        Core::loaded(&LoadedImage::new(image), px, py, recip, sqrt, trace)
+    }
+
+    /// [`Core::new`] from an image already in the core's layout.
+    #[inline(always)]
+    pub(crate) fn loaded(
+        image: &LoadedImage,
+        px: u32,
+        py: u32,
+        recip: Method,
+        sqrt: Method,
+        trace: T,
+    ) -> Core<T> {
         Core {
-            bits: image.bits,
-            valid: image.valid,
+            regs: image.clone(),
             f: [0.0; 3],
             f_valid: false,
             sp: 0,
@@ -136,49 +185,49 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     /// The physical register `code` decodes to at the current sp.
+    #[inline(always)]
     fn decode(&self, code: u8, at: &Location<'_>) -> u8 {
-        isa::decode(code, self.sp).unwrap_or_else(|| {
-            panic!(
-                "{at}: {} at stack level {} is outside the stack",
-                name(code),
-                self.sp
-            )
-        })
+        match isa::decode(code, self.sp) {
+            Some(a) => a,
+            None => outside_the_stack(code, self.sp, at),
+        }
     }
 
+    #[inline(always)]
     fn read(&self, code: u8, need: u8, at: &Location<'_>) -> Vec3 {
-        let a = self.decode(code, at);
-        let v = self.valid[a as usize];
-        assert!(
-            v & need == need,
-            "{at}: reads lanes {need:03b} of {} ({}), but only {v:03b} were loaded or written",
-            name(code),
-            name(a),
-        );
-        self.bits[a as usize].map(f32::from_bits)
+        let a = self.decode(code, at) as usize;
+        let valid = self.regs.valid[a];
+        if valid & need != need {
+            unwritten_read(code, a as u8, need, valid, at);
+        }
+        let lane = |i: usize| f32::from_bits(self.regs.lanes[i][a]);
+        [lane(0), lane(1), lane(2)]
     }
 
     /// The bits of physical register `a` as they are now (for the result).
     pub fn peek(&self, a: u8) -> Option<[u32; 3]> {
-        (self.valid[a as usize] == XYZ).then_some(self.bits[a as usize])
+        let a = a as usize;
+        let lane = |i: usize| self.regs.lanes[i][a];
+        (self.regs.valid[a] == XYZ).then(|| [lane(0), lane(1), lane(2)])
     }
 
+    #[inline(always)]
     fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3, at: &'static Location<'static>) {
         let a = self.decode(code, at);
-        assert!(
-            !is_scene(a),
-            "{at}: writes scene register {} (read-only to the controller)",
-            name(a)
-        );
-        assert!(mask != 0 && mask <= XYZ, "{at}: lane mask {mask:03b}");
+        if is_scene(a) {
+            scene_write(a, at);
+        }
+        if mask == 0 || mask > XYZ {
+            bad_mask(mask, at);
+        }
         let mut values = [0u32; 3];
         for (i, value) in values.iter_mut().enumerate() {
             if mask >> i & 1 == 1 {
                 *value = y[i].to_bits();
-                self.bits[a as usize][i] = *value;
+                self.regs.lanes[i][a as usize] = *value;
             }
         }
-        self.valid[a as usize] |= mask;
+        self.regs.valid[a as usize] |= mask;
         self.stats.register_writes += 1;
         let event = TraceEvent {
             x: self.px as u16,
@@ -193,11 +242,15 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         (self.trace)(&event, at);
     }
 
+    #[inline(always)]
     fn f(&self, at: &Location<'_>) -> Vec3 {
-        assert!(self.f_valid, "{at}: reads F before anything wrote it");
+        if !self.f_valid {
+            unwritten_f(at);
+        }
         self.f
     }
 
+    #[inline(always)]
     fn count(&mut self, code: u8) {
         let class = OpClass::of(code).expect("every issued opcode has a class");
         let cycles = match code {
@@ -210,6 +263,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// Lane-wise binary instructions and their B-operand routing: lane i of
     /// the result combines A.i with B.(route[i]).
+    #[inline(always)]
     fn lanewise(
         &mut self,
         state: u16,
@@ -226,9 +280,12 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             op::MULR2 => [2, 0, 1],
             _ => unreachable!("not a lane-wise binary opcode: {code}"),
         };
-        let need_b = (0..3)
-            .filter(|i| mask >> i & 1 == 1)
-            .fold(0, |m, i| m | 1 << route[i]);
+        let mut need_b = 0;
+        for (i, &r) in route.iter().enumerate() {
+            if mask >> i & 1 == 1 {
+                need_b |= 1 << r;
+            }
+        }
         let av = self.read(a, mask, at);
         let bv = self.read(b, need_b, at);
         let mut y = [0.0f32; 3];
@@ -253,66 +310,77 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// ADD: Y = A + B.
     #[track_caller]
+    #[inline(always)]
     pub fn add(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::ADD, [y, a, b, m], Location::caller())
     }
 
     /// SUB: Y = A - B.
     #[track_caller]
+    #[inline(always)]
     pub fn sub(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::SUB, [y, a, b, m], Location::caller())
     }
 
     /// MUL: Y = A * B, componentwise.
     #[track_caller]
+    #[inline(always)]
     pub fn mul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MUL, [y, a, b, m], Location::caller())
     }
 
     /// NMUL: Y = -(A * B).
     #[track_caller]
+    #[inline(always)]
     pub fn nmul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::NMUL, [y, a, b, m], Location::caller())
     }
 
     /// MULX: Y = A * <B.x, B.x, B.x>.
     #[track_caller]
+    #[inline(always)]
     pub fn mulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULX, [y, a, b, m], Location::caller())
     }
 
     /// MULY: Y = A * <B.y, B.y, B.y>.
     #[track_caller]
+    #[inline(always)]
     pub fn muly(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULY, [y, a, b, m], Location::caller())
     }
 
     /// MULZ: Y = A * <B.z, B.z, B.z>.
     #[track_caller]
+    #[inline(always)]
     pub fn mulz(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULZ, [y, a, b, m], Location::caller())
     }
 
     /// NMULX: Y = -(A * <B.x, B.x, B.x>).
     #[track_caller]
+    #[inline(always)]
     pub fn nmulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::NMULX, [y, a, b, m], Location::caller())
     }
 
     /// MULR1: Y = A * <B.y, B.z, B.x>.
     #[track_caller]
+    #[inline(always)]
     pub fn mulr1(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULR1, [y, a, b, m], Location::caller())
     }
 
     /// MULR2: Y = A * <B.z, B.x, B.y>.
     #[track_caller]
+    #[inline(always)]
     pub fn mulr2(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULR2, [y, a, b, m], Location::caller())
     }
 
     /// MOV: Y = A.
     #[track_caller]
+    #[inline(always)]
     pub fn mov(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
         let at = Location::caller();
         let v = self.read(a, m, at);
@@ -323,9 +391,11 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// NEG: Y = -A (the sign bits flipped, exact).
     #[track_caller]
+    #[inline(always)]
     pub fn neg(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
         let at = Location::caller();
-        let v = self.read(a, m, at).map(|x| -x);
+        let [vx, vy, vz] = self.read(a, m, at);
+        let v = [-vx, -vy, -vz];
         self.count(op::NEG);
         self.write(st, y, m, v, at);
         Written { value: v, mask: m }
@@ -334,6 +404,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ITOF: Y = <itof(px), itof(-py), itof(0)>, from the controller's pixel
     /// coordinate registers (no register operand).
     #[track_caller]
+    #[inline(always)]
     pub fn itof(&mut self, st: u16, y: u8) -> Written {
         let at = Location::caller();
         let v = [
@@ -355,16 +426,18 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// DOT1: F = A * B.
     #[track_caller]
+    #[inline(always)]
     pub fn dot1(&mut self, _st: u16, a: u8, b: u8) {
         let at = Location::caller();
         let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        self.f = [0, 1, 2].map(|i| fp::mul(av[i], bv[i]));
+        self.f = lanes3(|i| fp::mul(av[i], bv[i]));
         self.f_valid = true;
         self.count(op::DOT1);
     }
 
     /// DOT2: F.x = F.x + F.y.
     #[track_caller]
+    #[inline(always)]
     pub fn dot2(&mut self, _st: u16) {
         let f = self.f(Location::caller());
         self.f[0] = fp::add(f[0], f[1]);
@@ -373,6 +446,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// DOT3: Y.x = F.x + F.z, i.e. `(a.x*b.x + a.y*b.y) + a.z*b.z`.
     #[track_caller]
+    #[inline(always)]
     pub fn dot3(&mut self, st: u16, y: u8) -> Written {
         let at = Location::caller();
         let f = self.f(at);
@@ -411,21 +485,23 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// ISECT1: F = -(A * B) [A = b, B = c].
     #[track_caller]
+    #[inline(always)]
     pub fn isect1(&mut self, _st: u16, a: u8, b: u8) {
         let at = Location::caller();
         let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        self.f = [0, 1, 2].map(|i| -fp::mul(av[i], bv[i]));
+        self.f = lanes3(|i| -fp::mul(av[i], bv[i]));
         self.f_valid = true;
         self.count(op::ISECT1);
     }
 
     /// ISECT2: Y = A * B [A = d, B = c]; F = <F.x + F.y, F.y, F.z>.
     #[track_caller]
+    #[inline(always)]
     pub fn isect2(&mut self, st: u16, y: u8, a: u8, b: u8) -> Written {
         let at = Location::caller();
         let f = self.f(at);
         let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        let g = [0, 1, 2].map(|i| fp::mul(av[i], bv[i]));
+        let g = lanes3(|i| fp::mul(av[i], bv[i]));
         self.f = [fp::add(f[0], f[1]), f[1], f[2]];
         self.count(op::ISECT2);
         self.write(st, y, XYZ, g, at);
@@ -437,6 +513,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// ISECT3: F = <A.x + A.y, F.x + F.z, A.z> [A = g].
     #[track_caller]
+    #[inline(always)]
     pub fn isect3(&mut self, _st: u16, a: u8) {
         let at = Location::caller();
         let f = self.f(at);
@@ -447,6 +524,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// ISECT4: Y = F = <A.x + F.y, F.x + F.z, 0> [A.x = a].
     #[track_caller]
+    #[inline(always)]
     pub fn isect4(&mut self, st: u16, y: u8, a: u8) -> Written {
         let at = Location::caller();
         let f = self.f(at);
@@ -468,22 +546,26 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// RECIP: Y.x = 1 / A.x.
     #[track_caller]
+    #[inline(always)]
     pub fn recip(&mut self, st: u16, y: u8, a: u8) -> Written {
         self.unary(st, op::RECIP, y, a, 0, Location::caller())
     }
 
     /// RECIPY: Y.x = 1 / A.y.
     #[track_caller]
+    #[inline(always)]
     pub fn recipy(&mut self, st: u16, y: u8, a: u8) -> Written {
         self.unary(st, op::RECIPY, y, a, 1, Location::caller())
     }
 
     /// SQRT: Y.x = sqrt(A.x).
     #[track_caller]
+    #[inline(always)]
     pub fn sqrt(&mut self, st: u16, y: u8, a: u8) -> Written {
         self.unary(st, op::SQRT, y, a, 0, Location::caller())
     }
 
+    #[inline(always)]
     fn unary(
         &mut self,
         st: u16,
@@ -509,6 +591,62 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 /// A register's name for messages.
 fn name(code: u8) -> String {
     isa::register_name(code).map_or_else(|| format!("r{code}"), str::to_string)
+}
+
+// The refusals, out of line: the instructions are inlined into the
+// controller, and their checks must cost a compare and a never-taken branch,
+// not the formatting of a message.
+
+#[cold]
+#[inline(never)]
+fn outside_the_stack(code: u8, sp: usize, at: &Location<'_>) -> ! {
+    panic!(
+        "{at}: {} at stack level {sp} is outside the stack",
+        name(code)
+    )
+}
+
+#[cold]
+#[inline(never)]
+fn unwritten_read(code: u8, a: u8, need: u8, valid: u8, at: &Location<'_>) -> ! {
+    panic!(
+        "{at}: reads lanes {need:03b} of {} ({}), but only {valid:03b} were loaded or written",
+        name(code),
+        name(a),
+    )
+}
+
+#[cold]
+#[inline(never)]
+fn scene_write(a: u8, at: &Location<'_>) -> ! {
+    panic!(
+        "{at}: writes scene register {} (read-only to the controller)",
+        name(a)
+    )
+}
+
+#[cold]
+#[inline(never)]
+fn bad_mask(mask: u8, at: &Location<'_>) -> ! {
+    panic!("{at}: lane mask {mask:03b}")
+}
+
+#[cold]
+#[inline(never)]
+fn unwritten_flag(i: usize, mask: u8) -> ! {
+    panic!("branching on lane {i}, which was not written (mask {mask:03b})")
+}
+
+#[cold]
+#[inline(never)]
+fn partly_written_signs(mask: u8) -> ! {
+    panic!("sign bits of a partly written vector (mask {mask:03b})")
+}
+
+#[cold]
+#[inline(never)]
+fn unwritten_f(at: &Location<'_>) -> ! {
+    panic!("{at}: reads F before anything wrote it")
 }
 
 /// Lane masks with one lane each, by lane index.
@@ -538,6 +676,26 @@ mod tests {
     const A: u8 = reg::EYE;
     const B: u8 = reg::LIGHT_POS;
     const S: u16 = state::PRI_HALF;
+
+    /// The core's layout holds exactly the image: every loaded register
+    /// reads back bit for bit, and nothing else is readable.
+    #[test]
+    fn the_core_holds_the_register_image_bit_for_bit() {
+        let mut img = image(&[]);
+        for a in 0..reg::T0 {
+            let v = [a, a + 1, a + 2].map(|i| f32::from(i) * -0.37);
+            img.bits[a as usize] = v.map(f32::to_bits);
+            img.valid[a as usize] = XYZ;
+        }
+        img.bits[reg::T0 as usize] = [1, 2, 3];
+        img.valid[reg::T0 as usize] = Y;
+        let c = core(&img);
+        for a in 0..REGISTER_COUNT as u8 {
+            let want = (img.valid[a as usize] == XYZ).then_some(img.bits[a as usize]);
+            assert_eq!(c.peek(a), want, "{}", name(a));
+        }
+        assert_eq!(c.read(reg::T0, Y, Location::caller())[1].to_bits(), 2);
+    }
 
     #[test]
     fn lanewise_ops_route_b_as_documented() {

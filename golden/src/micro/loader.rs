@@ -115,8 +115,14 @@ impl Config {
         put(dim::CFG_PLANES_LSB, self.planes as u128);
         put(dim::CFG_DEPTH_LSB, self.max_depth as u128);
         put(dim::CFG_BBOX_LSB, u128::from(self.speedups.bounding_box));
-        put(dim::CFG_FAST_PLANE_LSB, u128::from(self.speedups.fast_plane));
-        put(dim::CFG_SHORTCUT_LSB, u128::from(self.speedups.shadow_shortcut));
+        put(
+            dim::CFG_FAST_PLANE_LSB,
+            u128::from(self.speedups.fast_plane),
+        );
+        put(
+            dim::CFG_SHORTCUT_LSB,
+            u128::from(self.speedups.shadow_shortcut),
+        );
         for a in 0..3 {
             put(dim::CFG_ROTATE_LSB + a, u128::from(self.rotate[a]));
         }
@@ -126,7 +132,10 @@ impl Config {
         for j in 0..MAX_PLANES {
             put(dim::CFG_PLN_BITS_LSB + 3 * j, self.plane_bits[j].code());
             put(dim::CFG_PLN_AXIS_LSB + 2 * j, self.plane_axis[j] as u128);
-            put(dim::CFG_PLN_NEG_LSB + j, u128::from(self.plane_facing_neg[j]));
+            put(
+                dim::CFG_PLN_NEG_LSB + j,
+                u128::from(self.plane_facing_neg[j]),
+            );
         }
         [w as u32, (w >> 32) as u32, (w >> 64) as u32]
     }
@@ -314,15 +323,24 @@ mod tests {
         let s = c.speedups;
         assert_eq!(field(dim::CFG_BBOX_LSB, 1), u128::from(s.bounding_box));
         assert_eq!(field(dim::CFG_FAST_PLANE_LSB, 1), u128::from(s.fast_plane));
-        assert_eq!(field(dim::CFG_SHORTCUT_LSB, 1), u128::from(s.shadow_shortcut));
+        assert_eq!(
+            field(dim::CFG_SHORTCUT_LSB, 1),
+            u128::from(s.shadow_shortcut)
+        );
         assert_eq!(field(dim::CFG_ROTATE_LSB, 3), 0b001);
         for k in 0..2 {
-            assert_eq!(field(dim::CFG_SPH_BITS_LSB + 3 * k, 3), c.sphere_bits[k].code());
+            assert_eq!(
+                field(dim::CFG_SPH_BITS_LSB + 3 * k, 3),
+                c.sphere_bits[k].code()
+            );
         }
         // The floor (y, facing +) and the back wall (z, facing -).
         assert_eq!(field(dim::CFG_PLN_AXIS_LSB, 4), 1 | 2 << 2);
         assert_eq!(field(dim::CFG_PLN_NEG_LSB, 2), 0b10);
-        assert_eq!(field(dim::CFG_PLN_BITS_LSB, 6), c.plane_bits[0].code() | c.plane_bits[1].code() << 3);
+        assert_eq!(
+            field(dim::CFG_PLN_BITS_LSB, 6),
+            c.plane_bits[0].code() | c.plane_bits[1].code() << 3
+        );
         // Nothing beyond the last field.
         assert_eq!(w >> (dim::CFG_PLN_NEG_LSB + MAX_PLANES), 0);
     }

@@ -51,7 +51,7 @@ pub use stats::{OpClass, OpStats};
 use crate::frame::Frame;
 use crate::scene::Scene;
 use crate::trace::TraceEvent;
-use alu::{Core, RegisterImage};
+use alu::{Core, LoadedImage};
 use loader::Config;
 use rayon::prelude::*;
 use std::panic::Location;
@@ -75,7 +75,7 @@ pub struct PixelResult {
 /// controller's configuration, built once and shared by every pixel.
 #[derive(Debug, Clone)]
 pub struct Processor {
-    image: RegisterImage,
+    image: LoadedImage,
     config: Config,
     width: u32,
     height: u32,
@@ -84,7 +84,7 @@ pub struct Processor {
 impl Processor {
     pub fn new(scene: &Scene) -> Processor {
         Processor {
-            image: loader::register_image(scene),
+            image: LoadedImage::new(&loader::register_image(scene)),
             config: Config::new(scene),
             width: scene.camera.width,
             height: scene.camera.height,
@@ -111,7 +111,7 @@ impl Processor {
             self.width,
             self.height
         );
-        let core = Core::new(
+        let core = Core::loaded(
             &self.image,
             px,
             py,
