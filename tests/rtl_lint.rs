@@ -11,7 +11,8 @@ fn lint(top: &str, params: &[&str]) {
     let dirs = [rtl.join("fp"), rtl.join("pp")];
     let mut files = Vec::new();
     for dir in &dirs {
-        let listing = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
+        let listing =
+            std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
         files.extend(
             listing
                 .map(|e| e.expect("listing rtl/").path())
