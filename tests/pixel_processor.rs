@@ -145,7 +145,7 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
     let scene = builtin("reference", 40, 30);
     let window = Window::new(17, 11, 6, 4);
     // A single-cycle and a multi-cycle state that every pixel visits.
-    for fault_state in [state::PRI_HALF, state::NORM_SQRT] {
+    for fault_state in [state::PRI_HALF, state::NORM_ROOTS] {
         let xor = 1 << 10;
         let mut first = None;
         golden::micro::render_pixel(&scene, window.x, window.y, |e, at| {

@@ -22,7 +22,9 @@
 // on ctrl by the controller until done: the unit's in_valid is raised only in
 // the first cycle (busy_q clear), and done is the unit's out_valid, so the op
 // takes the unit's latency + 1 cycles (golden::fp::recip_latency,
-// sqrt_latency). Their result is <unit y, +0, +0>.
+// sqrt_latency). Their result is <unit y, +0, +0>. ROOTS starts both units
+// in its first cycle and is done when both results are in (max latency + 1
+// cycles); its result is <sqrt y, recip y, +0>.
 //
 // The flags describe y, lane by lane, for the controller's branches:
 // y_neg (< 0: sign, not zero, not NaN), y_pos (> 0) and the raw sign bit.
@@ -62,12 +64,15 @@ module alu #(
     wire [2:0] f_sel    = ctrl[`ALU_CTRL_F_SEL];
     wire [2:0] res_sel  = ctrl[`ALU_CTRL_RES_SEL];
     wire       unit_a_y = ctrl[`ALU_CTRL_UNIT_A_Y];
+    wire       roots    = ctrl[`ALU_CTRL_ROOTS];
 
     // ------------------------------------------------------------------------
     // Registers
     // ------------------------------------------------------------------------
     reg [95:0] f_q, f_d;
     reg        busy_q, busy_d;
+    reg        recip_got_q, recip_got_d;  // ROOTS: each unit's result has arrived
+    reg        sqrt_got_q, sqrt_got_d;
 
     // ------------------------------------------------------------------------
     // Operand lanes
@@ -154,7 +159,7 @@ module alu #(
     fp_recip #(.METHOD(RECIP_METHOD)) u_recip (
         .clk       (clk),
         .rst_n     (rst_n),
-        .in_valid  (is_recip & ~busy_q),
+        .in_valid  ((is_recip | roots) & ~busy_q),
         .a         (unit_a_y ? a_y : a_x),
         .out_valid (recip_valid),
         .y         (recip_y)
@@ -169,14 +174,27 @@ module alu #(
         .y         (sqrt_y)
     );
 
-    // Only the op's own unit can finish it.
-    wire unit_done = (is_recip & recip_valid) | (is_sqrt & sqrt_valid);
+    // Only the op's own unit can finish it; ROOTS needs both units, whose
+    // out_valid pulses may come in different cycles (y holds each result).
+    wire recip_in = recip_valid | recip_got_q;
+    wire sqrt_in  = sqrt_valid | sqrt_got_q;
+    wire unit_done = roots ? (recip_in & sqrt_in)
+                           : (is_recip & recip_valid) | (is_sqrt & sqrt_valid);
 
-    // Set by the first cycle of RECIP/RECIPY/SQRT, cleared when it is done.
+    // Set by the first cycle of RECIP/RECIPY/SQRT/ROOTS, cleared when it is
+    // done; ROOTS remembers which results have arrived until then.
     always @* begin
-        busy_d = busy_q;
+        busy_d      = busy_q;
+        recip_got_d = recip_got_q;
+        sqrt_got_d  = sqrt_got_q;
         if ((is_recip | is_sqrt) & ~busy_q) busy_d = 1'b1;
-        if (unit_done)                      busy_d = 1'b0;
+        if (roots & recip_valid) recip_got_d = 1'b1;
+        if (roots & sqrt_valid)  sqrt_got_d  = 1'b1;
+        if (unit_done) begin
+            busy_d      = 1'b0;
+            recip_got_d = 1'b0;
+            sqrt_got_d  = 1'b0;
+        end
     end
 
     // ------------------------------------------------------------------------
@@ -195,11 +213,15 @@ module alu #(
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
-            f_q    <= 96'd0;
-            busy_q <= 1'b0;
+            f_q         <= 96'd0;
+            busy_q      <= 1'b0;
+            recip_got_q <= 1'b0;
+            sqrt_got_q  <= 1'b0;
         end else begin
-            f_q    <= f_d;
-            busy_q <= busy_d;
+            f_q         <= f_d;
+            busy_q      <= busy_d;
+            recip_got_q <= recip_got_d;
+            sqrt_got_q  <= sqrt_got_d;
         end
     end
 
@@ -219,7 +241,7 @@ module alu #(
             `ALU_RES_ITOF:  result = {POS_ZERO, itof_y, itof_x};
             `ALU_RES_F:     result = f_d;
             `ALU_RES_RECIP: result = {POS_ZERO, POS_ZERO, recip_y};
-            `ALU_RES_SQRT:  result = {POS_ZERO, POS_ZERO, sqrt_y};
+            `ALU_RES_SQRT:  result = {POS_ZERO, roots ? recip_y : POS_ZERO, sqrt_y};
             default:        result = {POS_ZERO, POS_ZERO, POS_ZERO};
         endcase
     end

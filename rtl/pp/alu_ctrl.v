@@ -32,6 +32,7 @@
 //   RECIP    -                -                          hold               1 / A.x
 //   RECIPY   -                -                          hold               1 / A.y
 //   SQRT     -                -                          hold               sqrt(A.x)
+//   ROOTS    -                -                          hold               <sqrt(A.x), 1 / A.x, +0>
 //
 // NOP and the unassigned opcodes decode to all-default controls: y = +0,
 // F held, single-cycle, no register-file write.
@@ -48,6 +49,7 @@ module alu_ctrl (
     reg [1:0] addx_b;
     reg [2:0] f_sel, res_sel;
     reg       unit_a_y;
+    reg       roots;
     reg       writes;
 
     always @* begin
@@ -63,6 +65,7 @@ module alu_ctrl (
         f_sel    = `ALU_F_HOLD;
         res_sel  = `ALU_RES_ZERO;
         unit_a_y = 1'b0;
+        roots    = 1'b0;
         writes   = 1'b0;
         case (op)
             `ISA_OP_ADD: begin
@@ -185,6 +188,11 @@ module alu_ctrl (
                 res_sel = `ALU_RES_SQRT;
                 writes  = 1'b1;
             end
+            `ISA_OP_ROOTS: begin
+                res_sel = `ALU_RES_SQRT;
+                roots   = 1'b1;
+                writes  = 1'b1;
+            end
             default: ;
         endcase
     end
@@ -206,6 +214,7 @@ module alu_ctrl (
         packed_ctrl[`ALU_CTRL_F_SEL]    = f_sel;
         packed_ctrl[`ALU_CTRL_RES_SEL]  = res_sel;
         packed_ctrl[`ALU_CTRL_UNIT_A_Y] = unit_a_y;
+        packed_ctrl[`ALU_CTRL_ROOTS]    = roots;
     end
 
     assign ctrl      = packed_ctrl;

@@ -12,12 +12,13 @@
 //   z adder: A.z + B.z with NEG_B
 // RES_SEL picks the result y, F_SEL the next value of the internal register
 // F. RES_SEL = RECIP or SQRT makes the op multi-cycle: the unit starts in
-// the op's first cycle and the op is done when the unit's out_valid rises.
+// the op's first cycle and the op is done when the unit's out_valid rises;
+// with ROOTS both units start and the op is done when both have finished.
 // ============================================================================
 `ifndef ALU_CTRL_VH
 `define ALU_CTRL_VH
 
-`define ALU_CTRL_W 20
+`define ALU_CTRL_W 21
 
 // ---------------------------------------------------------------------------
 // Fields
@@ -34,6 +35,8 @@
 `define ALU_CTRL_F_SEL 15:13      // next F (ALU_F_*)
 `define ALU_CTRL_RES_SEL 18:16    // result y (ALU_RES_*)
 `define ALU_CTRL_UNIT_A_Y 19      // fp_recip operand: 0 = A.x, 1 = A.y (RECIPY)
+`define ALU_CTRL_ROOTS 20         // ROOTS: with RES_SEL = SQRT, fp_recip starts too and
+                                  // y = <sqrt, recip, +0> when both are done
 
 // ---------------------------------------------------------------------------
 // Codes

@@ -64,6 +64,8 @@
 `define ISA_OP_RECIP 24   // Y.x = 1 / A.x; multi-cycle: fp_recip latency + 1
 `define ISA_OP_RECIPY 25  // Y.x = 1 / A.y; multi-cycle: fp_recip latency + 1
 `define ISA_OP_SQRT 26    // Y.x = sqrt(A.x); multi-cycle: fp_sqrt latency + 1
+`define ISA_OP_ROOTS 27   // Y.x = sqrt(A.x), Y.y = 1 / A.x: fp_sqrt and fp_recip at once;
+                          // multi-cycle: max(fp_sqrt, fp_recip latency) + 1
 
 // ---------------------------------------------------------------------------
 // Register file (7-bit addresses). Scene registers are written once per
@@ -174,8 +176,8 @@
 `define ISA_ST_DOT_1 20           // F = A * B
 `define ISA_ST_DOT_2 21           // F.x = F.x + F.y
 `define ISA_ST_DOT_3 22           // Y.x = F.x + F.z
-`define ISA_ST_NORM_SQRT 23       // |v| = sqrt(v.v)
-`define ISA_ST_NORM_RECIP 24      // 1/|v|
+`define ISA_ST_NORM_ROOTS 23      // LEN = <|v| = sqrt(v.v), 1/(v.v)> (ROOTS)
+`define ISA_ST_NORM_INV 24        // INV.x = |v| * 1/(v.v) = 1/|v|
 `define ISA_ST_NORM_SCALE 25      // v * 1/|v|; latches the direction's sign flags
 // Sub-machine: the shared intersection sub-graph (thesis eq. 29, 30):
 // spheres (b = c = w, a = r*r) and planes (b = o, c = n, a = q).

@@ -26,7 +26,7 @@
 // Searches (nearest hit, shadow) share the object loop: ctx says which, and
 // ray_o/ray_d point at the ray's origin and direction registers.
 //
-// A multi-cycle instruction (RECIP, RECIPY, SQRT) holds its state, and every
+// A multi-cycle instruction (RECIP, RECIPY, SQRT, ROOTS) holds its state, and every
 // other register, until alu_done.
 // ============================================================================
 module pp_ctrl (
@@ -65,7 +65,7 @@ module pp_ctrl (
     // Object kinds, search contexts, DOT return points.
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
     localparam       C_HIT = 1'b0, C_SHD = 1'b1;
-    localparam [2:0] R_NORM = 3'd0,  // -> NORM_SQRT
+    localparam [2:0] R_NORM = 3'd0,  // -> NORM_ROOTS
                      R_SPH  = 3'd1,  // -> SPH_BD
                      R_DIFF = 3'd2,  // n.l > 0 ? SH_KD : the reflection step
                      R_REFL = 3'd3,  // -> SH_REFL_K
@@ -272,8 +272,8 @@ module pp_ctrl (
             `ISA_ST_DOT_2:      op = `ISA_OP_DOT2;
             `ISA_ST_DOT_3:      begin op = `ISA_OP_DOT3; wmask = M_X; end
             // normalize
-            `ISA_ST_NORM_SQRT:  begin op = `ISA_OP_SQRT; la_w = T_LEN; la_a = T_LEN; wmask = M_X; end
-            `ISA_ST_NORM_RECIP: begin op = `ISA_OP_RECIP; la_w = T_INV; la_a = T_LEN; wmask = M_X; end
+            `ISA_ST_NORM_ROOTS: begin op = `ISA_OP_ROOTS; la_w = T_LEN; la_a = T_LEN; wmask = M_X | M_Y; end
+            `ISA_ST_NORM_INV:   begin op = `ISA_OP_MULR1; la_w = T_INV; la_a = T_LEN; la_b = T_LEN; wmask = M_X; end
             `ISA_ST_NORM_SCALE: begin
                 op   = `ISA_OP_MULX;
                 la_w = norm_pri_q ? `ISA_REG_CUR_D : T_L;
@@ -691,15 +691,15 @@ module pp_ctrl (
                 `ISA_ST_DOT_1:      st_d = `ISA_ST_DOT_2;
                 `ISA_ST_DOT_2:      st_d = `ISA_ST_DOT_3;
                 `ISA_ST_DOT_3: case (dot_ret_q)
-                    R_NORM:  st_d = `ISA_ST_NORM_SQRT;
+                    R_NORM:  st_d = `ISA_ST_NORM_ROOTS;
                     R_SPH:   st_d = `ISA_ST_SPH_BD;
                     R_DIFF:  if (y_pos[0]) st_d = `ISA_ST_SH_KD; else refl_step;
                     R_REFL:  st_d = `ISA_ST_SH_REFL_K;
                     default: if (y_pos[0]) st_d = `ISA_ST_SH_POW2; else local_step;
                 endcase
                 // normalize
-                `ISA_ST_NORM_SQRT:  st_d = `ISA_ST_NORM_RECIP;
-                `ISA_ST_NORM_RECIP: st_d = `ISA_ST_NORM_SCALE;
+                `ISA_ST_NORM_ROOTS: st_d = `ISA_ST_NORM_INV;
+                `ISA_ST_NORM_INV:   st_d = `ISA_ST_NORM_SCALE;
                 `ISA_ST_NORM_SCALE: begin
                     dsign_d = y_sign;
                     dneg_d  = y_neg;

@@ -256,6 +256,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let cycles = match code {
             op::RECIP | op::RECIPY => u64::from(fp::recip_latency(self.recip)) + 1,
             op::SQRT => u64::from(fp::sqrt_latency(self.sqrt)) + 1,
+            op::ROOTS => u64::from(roots_latency(self.recip, self.sqrt)) + 1,
             _ => 1,
         };
         self.stats.record(class, cycles);
@@ -565,6 +566,22 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         self.unary(st, op::SQRT, y, a, 0, Location::caller())
     }
 
+    /// ROOTS: Y.x = sqrt(A.x), Y.y = 1 / A.x, both units started in the
+    /// same cycle; written together when the later one is done.
+    #[track_caller]
+    #[inline(always)]
+    pub fn roots(&mut self, st: u16, y: u8, a: u8) -> Written {
+        let at = Location::caller();
+        let x = self.read(a, X, at)[0];
+        let v = [fp::sqrt(x, self.sqrt), fp::recip(x, self.recip), 0.0];
+        self.count(op::ROOTS);
+        self.write(st, y, X | Y, v, at);
+        Written {
+            value: v,
+            mask: X | Y,
+        }
+    }
+
     #[inline(always)]
     fn unary(
         &mut self,
@@ -585,6 +602,16 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         self.count(code);
         self.write(st, y, X, v, at);
         Written { value: v, mask: X }
+    }
+}
+
+/// The latency of ROOTS: the later of its two units.
+pub const fn roots_latency(recip: Method, sqrt: Method) -> u32 {
+    let (r, s) = (fp::recip_latency(recip), fp::sqrt_latency(sqrt));
+    if r > s {
+        r
+    } else {
+        s
     }
 }
 
@@ -810,9 +837,16 @@ mod tests {
             assert_eq!(c.sqrt(S, reg::T0, A).value()[0], 2.0);
             assert_eq!(c.recip(S, reg::T0, A).value()[0], 0.25);
             assert_eq!(c.recipy(S, reg::T0, A).value()[0], 2.0);
+            assert_eq!(c.roots(S, reg::T0, A).value(), [2.0, 0.25, 0.0]);
             assert_eq!(
                 c.stats.instruction_cycles(),
-                u64::from(fp::sqrt_latency(m) + 1 + 2 * (fp::recip_latency(m) + 1))
+                u64::from(
+                    fp::sqrt_latency(m)
+                        + 1
+                        + 2 * (fp::recip_latency(m) + 1)
+                        + fp::sqrt_latency(m).max(fp::recip_latency(m))
+                        + 1
+                )
             );
         }
     }

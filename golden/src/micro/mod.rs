@@ -26,6 +26,7 @@
 //!            1                        every single-cycle instruction
 //!            recip_latency(m) + 1     RECIP, RECIPY (issue with in_valid,
 //!            sqrt_latency(m) + 1      SQRT           write when out_valid)
+//!            max of the two + 1       ROOTS (both units at once)
 //!        + 1                          PIX_DONE: raise done
 //! ```
 //!

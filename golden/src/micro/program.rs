@@ -175,12 +175,14 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     }
 
     /// y = v / |v|, leaving |v| in LEN.x, and latches y's direction flags
-    /// (dot + sqrt + recip + 1 cycles).
+    /// (dot + ROOTS + 2 cycles).
     #[track_caller]
     fn normalize(&mut self, y: u8, v: u8) -> Written {
         self.dot(t::LEN, v, v);
-        self.core.sqrt(st::NORM_SQRT, t::LEN, t::LEN);
-        self.core.recip(st::NORM_RECIP, t::INV, t::LEN);
+        // |v| and 1/(v.v) at once, then 1/|v| = |v| * 1/(v.v): the square
+        // root and the reciprocal overlap instead of following each other.
+        self.core.roots(st::NORM_ROOTS, t::LEN, t::LEN);
+        self.core.mulr1(st::NORM_INV, t::INV, t::LEN, t::LEN, X);
         let w = self.core.mulx(st::NORM_SCALE, y, v, t::INV, XYZ);
         self.dir = DirFlags::of(&w);
         w

@@ -23,10 +23,12 @@ pub enum OpClass {
     Recip,
     /// SQRT.
     Sqrt,
+    /// ROOTS: fp_sqrt and fp_recip started together.
+    Roots,
 }
 
 impl OpClass {
-    pub const COUNT: usize = 8;
+    pub const COUNT: usize = 9;
     pub const ALL: [OpClass; OpClass::COUNT] = [
         OpClass::Add,
         OpClass::Mul,
@@ -36,6 +38,7 @@ impl OpClass {
         OpClass::Isect,
         OpClass::Recip,
         OpClass::Sqrt,
+        OpClass::Roots,
     ];
 
     /// The class of opcode `code`; `None` for NOP and unknown codes.
@@ -56,6 +59,7 @@ impl OpClass {
             op::ISECT1 | op::ISECT2 | op::ISECT3 | op::ISECT4 => OpClass::Isect,
             op::RECIP | op::RECIPY => OpClass::Recip,
             op::SQRT => OpClass::Sqrt,
+            op::ROOTS => OpClass::Roots,
             _ => return None,
         })
     }
@@ -70,6 +74,7 @@ impl OpClass {
             OpClass::Isect => "isect",
             OpClass::Recip => "recip",
             OpClass::Sqrt => "sqrt",
+            OpClass::Roots => "roots",
         }
     }
 }
