@@ -7,8 +7,10 @@ use golden::frame::Frame;
 use golden::scene::{Scene, MAX_IMAGE_SIDE};
 use golden::trace::{format_event, TraceHeader, TraceReader, TraceWriter};
 use indicatif::{ProgressBar, ProgressStyle};
+use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, Fault};
 use rtcosim::fp_check::{self, CheckReport, Operands};
 use rtcosim::fp_unit::UnitKind;
+use rtcosim::pixel_proc::{state_label, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -23,6 +25,13 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Co-simulate the verilated RTL pixel processor against the golden
+    /// micro-op model, pixel by pixel (the main job).
+    ///
+    /// Every register-file write (state, destination, lanes, bits), every
+    /// pixel's colour and cycle count is compared. Exits 0 when everything
+    /// agrees, 1 on any divergence, 2 on an error (a hung RTL is one).
+    Cosim(CosimArgs),
     /// Co-simulate the float units of rtl/fp against golden::fp: edge cases,
     /// then seeded random operands (or every input, for unary units).
     FpCheck(FpCheckArgs),
@@ -52,6 +61,71 @@ struct FpCheckArgs {
     /// Worker threads, one verilated model each (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+}
+
+#[derive(clap::Args, Debug)]
+struct CosimArgs {
+    /// A scene file (TOML), or the name of a builtin scene: reference,
+    /// mirror, grazing, light_touch, parallel_plane, box_room.
+    #[arg(long, default_value = "reference")]
+    scene: String,
+    /// Image size WxH instead of the scene's; the image-plane distance
+    /// scales with the width, so the horizontal field of view is kept.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    size: Option<Size>,
+    /// The pixels to co-simulate: columns X0..=X1 and rows Y0..=Y1
+    /// (inclusive, row 0 at the top), or X,Y for one pixel (default: the
+    /// whole image).
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window)]
+    window: Option<Window>,
+    /// The reciprocal unit's method, overriding the scene's: picks the RTL
+    /// variant verilated with it, and the golden model follows.
+    #[arg(long, value_enum)]
+    recip: Option<MethodArg>,
+    /// The square-root unit's method, overriding the scene's.
+    #[arg(long, value_enum)]
+    sqrt: Option<MethodArg>,
+    /// Worker threads, one verilated pixel processor each (default: all
+    /// cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Cycles a pixel may take before the RTL counts as hung: the run stops
+    /// with an error naming the pixel and the last state.
+    #[arg(
+        long,
+        value_name = "CYCLES",
+        default_value_t = DEFAULT_TIMEOUT_CYCLES,
+        value_parser = parse_timeout
+    )]
+    timeout_cycles: u64,
+    /// Self-test of the harness, not a check of the RTL: inject a bit flip
+    /// into the RTL's writes in state STATE, so the run must fail (exit 1).
+    ///
+    /// XOR is XORed into lane x of every register-file write the RTL makes
+    /// in controller state STATE (the golden model is left alone), so the
+    /// first such write must be reported as the first divergence. STATE is
+    /// a state of rtl/pp/isa.vh by name (e.g. PRI_HALF) or number; XOR is
+    /// hex (0x400) or decimal, nonzero. A state that writes no register in
+    /// the window leaves the run passing, with a warning.
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
+    fault: Option<Fault>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum MethodArg {
+    /// Correctly rounded.
+    Exact,
+    /// At most 1 ULP from correctly rounded, one cycle faster.
+    Fast,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Method {
+        match m {
+            MethodArg::Exact => Method::Exact,
+            MethodArg::Fast => Method::Fast,
+        }
+    }
 }
 
 #[derive(clap::Args, Debug)]
@@ -136,11 +210,12 @@ impl Window {
         u64::from(self.x1 - self.x0 + 1) * u64::from(self.y1 - self.y0 + 1)
     }
 
-    /// Fails unless the window lies inside a `width`x`height` image.
-    fn check_inside(&self, width: u32, height: u32) -> Result<()> {
+    /// Fails unless the window lies inside a `width`x`height` image;
+    /// `flag` names the option in the message.
+    fn check_inside(&self, flag: &str, width: u32, height: u32) -> Result<()> {
         if self.x1 >= width || self.y1 >= height {
             bail!(
-                "--trace-window {self} is outside the {width}x{height} image \
+                "{flag} {self} is outside the {width}x{height} image \
                  (columns 0..={}, rows 0..={})",
                 width - 1,
                 height - 1
@@ -181,6 +256,58 @@ fn parse_window(s: &str) -> Result<Window, String> {
         return Err(bad());
     }
     Ok(w)
+}
+
+/// A number in decimal, or in hex with a `0x` prefix.
+fn parse_number(s: &str) -> Option<u64> {
+    let s = s.trim();
+    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(hex) if !hex.starts_with('+') => u64::from_str_radix(hex, 16).ok(),
+        Some(_) => None,
+        None => s.parse().ok(),
+    }
+}
+
+fn parse_timeout(s: &str) -> Result<u64, String> {
+    parse_number(s)
+        .filter(|&n| n >= 1)
+        .ok_or_else(|| format!("expected a number of cycles, at least 1; got {s:?}"))
+}
+
+/// `STATE:XOR`: a controller state of rtl/pp/isa.vh by name (any case, an
+/// `ISA_ST_` prefix allowed) or number, and a nonzero 32-bit mask.
+fn parse_fault(s: &str) -> Result<Fault, String> {
+    use golden::micro::isa;
+    let (state_arg, xor_arg) = s
+        .split_once(':')
+        .ok_or_else(|| format!("expected STATE:XOR, e.g. PRI_HALF:0x400; got {s:?}"))?;
+    let state_arg = state_arg.trim();
+    let state = match parse_number(state_arg) {
+        Some(n) => u16::try_from(n)
+            .ok()
+            .filter(|&id| isa::state_name(id).is_some()),
+        None => {
+            let upper = state_arg.to_ascii_uppercase();
+            isa::state_code(upper.strip_prefix("ISA_ST_").unwrap_or(&upper))
+        }
+    }
+    .ok_or_else(|| {
+        let names: Vec<&str> = isa::STATES.iter().map(|&(name, _)| name).collect();
+        format!(
+            "{state_arg:?} is not a controller state of rtl/pp/isa.vh; the states: {}",
+            names.join(", ")
+        )
+    })?;
+    let xor = parse_number(xor_arg)
+        .and_then(|n| u32::try_from(n).ok())
+        .filter(|&x| x != 0)
+        .ok_or_else(|| {
+            format!(
+                "the XOR mask {:?} is not a nonzero 32-bit number (hex 0x400 or decimal 1024)",
+                xor_arg.trim()
+            )
+        })?;
+    Ok(Fault { state, xor })
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -231,6 +358,7 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
 /// Returns whether every check passed.
 fn run(cli: Cli) -> Result<bool> {
     match cli.command {
+        Command::Cosim(args) => cosim_command(args),
         Command::FpCheck(args) => fp_check_command(args),
         Command::Render(args) => render_command(args).map(|()| true),
         Command::TraceDump(args) => trace_dump_command(args).map(|()| true),
@@ -266,7 +394,7 @@ fn render_command(args: RenderArgs) -> Result<()> {
                     args.model.name()
                 );
             }
-            window.check_inside(scene.camera.width, scene.camera.height)?;
+            window.check_inside("--trace-window", scene.camera.width, scene.camera.height)?;
             check_parent_dir("--trace", path)?;
             Some((path.as_path(), window))
         }
@@ -328,6 +456,152 @@ fn render_command(args: RenderArgs) -> Result<()> {
             window.y0,
             window.y1
         )?;
+    }
+    Ok(())
+}
+
+fn cosim_command(args: CosimArgs) -> Result<bool> {
+    let mut scene = load_scene(&args.scene)?;
+    if let Some(size) = args.size {
+        scene = scene.resized(size.width, size.height, "--size")?;
+    }
+    let recip = args.recip.map_or(scene.render.recip, Method::from);
+    let sqrt = args.sqrt.map_or(scene.render.sqrt, Method::from);
+    if (recip, sqrt) != (scene.render.recip, scene.render.sqrt) {
+        let mut render = scene.render;
+        render.recip = recip;
+        render.sqrt = sqrt;
+        scene = Scene::new(
+            "--recip/--sqrt",
+            scene.camera.clone(),
+            scene.light.clone(),
+            scene.spheres.clone(),
+            scene.planes.clone(),
+            render,
+        )?;
+    }
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let window = match args.window {
+        Some(window) => {
+            window.check_inside("--window", w, h)?;
+            window
+        }
+        None => Window {
+            x0: 0,
+            y0: 0,
+            x1: w - 1,
+            y1: h - 1,
+        },
+    };
+    let pool = worker_pool(args.threads)?;
+    let threads = pool.current_num_threads();
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, hash {:016x}), window {window} \
+         ({} pixels), recip {recip}, sqrt {sqrt}, {threads} thread{}, {}",
+        args.scene,
+        scene.render.max_depth,
+        scene.content_hash(),
+        window.pixels(),
+        if threads == 1 { "" } else { "s" },
+        rtcosim::VERILATOR_VERSION
+    )?;
+    if let Some(fault) = args.fault {
+        writeln!(
+            out,
+            "self-test: lane x of every RTL register write in state {} is XORed with {:#010x}; \
+             the run must fail",
+            state_label(fault.state),
+            fault.xor
+        )?;
+    }
+    writeln!(out)?;
+    out.flush()?;
+    let options = CosimOptions {
+        fault: args.fault,
+        timeout_cycles: args.timeout_cycles,
+    };
+    let bar = ProgressBar::new(window.pixels()).with_style(
+        ProgressStyle::with_template(
+            "co-simulating [{bar:30}] {percent:>3}% {pos}/{len} pixels ({per_sec}, {eta})",
+        )
+        .context("progress bar template")?
+        .progress_chars("=> "),
+    );
+    let start = Instant::now();
+    let cosim_window = cosim::Window::new(
+        window.x0,
+        window.y0,
+        window.x1 - window.x0 + 1,
+        window.y1 - window.y0 + 1,
+    );
+    let result = pool.install(|| cosim::run(&scene, cosim_window, &options, &|n| bar.inc(n)));
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let report = result.map_err(|e| {
+        let hint = match &e {
+            CosimError::Rtl(PpError::Hung {
+                kind: HangKind::Timeout,
+                ..
+            }) => format!(
+                "; --timeout-cycles is {}: raise it if the pixel is only slow",
+                args.timeout_cycles
+            ),
+            _ => String::new(),
+        };
+        anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
+    })?;
+    print_cosim(&mut out, &report, seconds, threads)?;
+    Ok(report.passed())
+}
+
+/// The report, cycles per pixel, speed and the verdict.
+fn print_cosim(
+    out: &mut impl Write,
+    r: &CosimReport,
+    seconds: f64,
+    threads: usize,
+) -> std::io::Result<()> {
+    writeln!(out, "{r}")?;
+    let per_pixel = |c: u64| c as f64 / r.pixels.max(1) as f64;
+    writeln!(
+        out,
+        "cycles/pixel: mean {:.1} RTL, {:.1} golden",
+        per_pixel(r.rtl_cycles),
+        per_pixel(r.golden_cycles)
+    )?;
+    writeln!(
+        out,
+        "{} pixel{} in {seconds:.2} s: {:.0} pixels/s, {:.2} M RTL cycles/s ({threads} thread{})",
+        r.pixels,
+        if r.pixels == 1 { "" } else { "s" },
+        r.pixels as f64 / seconds.max(1e-9),
+        r.rtl_cycles as f64 / seconds.max(1e-9) / 1e6,
+        if threads == 1 { "" } else { "s" }
+    )?;
+    writeln!(out)?;
+    if r.passed() {
+        writeln!(
+            out,
+            "PASS: the RTL agrees with golden::micro on every pixel: events, colour and cycles"
+        )?;
+        if let Some(fault) = r.fault {
+            writeln!(
+                out,
+                "warning: the injected fault went unnoticed: no register write in state {} \
+                 in this window, or the harness does not see the fault port",
+                state_label(fault.state)
+            )?;
+        }
+    } else if r.divergent_pixels > 0 {
+        writeln!(
+            out,
+            "FAIL: {} of {} pixels diverge from golden::micro",
+            r.divergent_pixels, r.pixels
+        )?;
+    } else {
+        writeln!(out, "FAIL: no events were compared")?;
     }
     Ok(())
 }
@@ -477,7 +751,7 @@ fn print_cycles(out: &mut impl Write, s: &golden::micro::FrameStats) -> std::io:
     }
     writeln!(
         out,
-        "{:<8} {:>12.2} {:>7} {:>14.2}  (+{} start/done cycles per pixel)",
+        "{:<8} {:>12.2} {:>7} {:>14.2}  (+{} done cycle per pixel)",
         "all",
         per_pixel(s.ops.instructions()),
         "",
@@ -745,9 +1019,9 @@ mod tests {
             assert!(parse_window(bad).is_err(), "{bad:?}");
         }
         let w = parse_window("0,0,79,59").expect("valid");
-        assert!(w.check_inside(80, 60).is_ok());
-        assert!(w.check_inside(79, 60).is_err());
-        assert!(w.check_inside(80, 59).is_err());
+        assert!(w.check_inside("--window", 80, 60).is_ok());
+        assert!(w.check_inside("--window", 79, 60).is_err());
+        assert!(w.check_inside("--window", 80, 59).is_err());
     }
 
     #[test]
@@ -776,16 +1050,124 @@ mod tests {
     }
 
     #[test]
+    fn cosim_defaults_to_the_whole_reference_scene_with_its_methods() {
+        let cli = Cli::try_parse_from(["rtcosim", "cosim"]).expect("valid command line");
+        let Command::Cosim(args) = cli.command else {
+            panic!("expected the cosim subcommand, got {:?}", cli.command);
+        };
+        assert_eq!(args.scene, "reference");
+        assert_eq!((args.size, args.window), (None, None));
+        assert_eq!((args.recip, args.sqrt), (None, None));
+        assert_eq!(args.timeout_cycles, DEFAULT_TIMEOUT_CYCLES);
+        assert_eq!((args.threads, args.fault), (None, None));
+    }
+
+    #[test]
+    fn a_full_cosim_command_line_parses() {
+        let cli = Cli::try_parse_from([
+            "rtcosim",
+            "cosim",
+            "--scene",
+            "box_room",
+            "--size",
+            "40x30",
+            "--window",
+            "1,2,30,20",
+            "--recip",
+            "fast",
+            "--sqrt",
+            "exact",
+            "--threads",
+            "1",
+            "--timeout-cycles",
+            "5000",
+            "--fault",
+            "PRI_HALF:0x400",
+        ])
+        .expect("valid command line");
+        let Command::Cosim(args) = cli.command else {
+            panic!("expected the cosim subcommand");
+        };
+        assert_eq!(args.window.map(|w| w.to_string()), Some("1,2,30,20".into()));
+        assert_eq!(args.recip, Some(MethodArg::Fast));
+        assert_eq!(args.sqrt, Some(MethodArg::Exact));
+        assert_eq!(args.timeout_cycles, 5000);
+        assert_eq!(
+            args.fault,
+            Some(Fault {
+                state: golden::micro::isa::state::PRI_HALF,
+                xor: 0x400
+            })
+        );
+        for bad in [
+            &["--timeout-cycles", "0"][..],
+            &["--recip", "slow"],
+            &["--window", "5,5,4,6"],
+            &["--fault", "PRI_HALF"],
+        ] {
+            let err = Cli::try_parse_from([&["rtcosim", "cosim"][..], bad].concat())
+                .expect_err("a usage error");
+            assert_eq!(err.exit_code(), 2, "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn faults_name_a_state_by_name_or_number_and_a_nonzero_mask() {
+        use golden::micro::isa::{state, state_name};
+        let half = Fault {
+            state: state::PRI_HALF,
+            xor: 0x400,
+        };
+        for spec in [
+            "PRI_HALF:0x400".to_string(),
+            "pri_half:1024".to_string(),
+            "ISA_ST_PRI_HALF:0X400".to_string(),
+            format!(" {} : 0x0400 ", state::PRI_HALF),
+        ] {
+            assert_eq!(parse_fault(&spec), Ok(half), "{spec:?}");
+        }
+        let all = parse_fault("PRI_ITOF:0xffffffff").expect("every bit");
+        assert_eq!(all.xor, u32::MAX);
+        let unnamed = (0..=u16::MAX)
+            .find(|&id| state_name(id).is_none())
+            .expect("some id is no state");
+        for (spec, message) in [
+            ("PRI_HALF".to_string(), "expected STATE:XOR"),
+            ("PRI_HALF:0".to_string(), "nonzero"),
+            ("PRI_HALF:0x100000000".to_string(), "32-bit"),
+            ("PRI_HALF:-1".to_string(), "\"-1\""),
+            ("PRI_HALF:0x".to_string(), "\"0x\""),
+            (
+                "NO_SUCH_STATE:1".to_string(),
+                "\"NO_SUCH_STATE\" is not a controller state",
+            ),
+            (format!("{unnamed}:1"), "is not a controller state"),
+            ("70000:1".to_string(), "is not a controller state"),
+        ] {
+            let err = parse_fault(&spec).expect_err(&spec);
+            assert!(err.contains(message), "{spec:?}: {err}");
+        }
+        // The refusal lists the states to choose from.
+        let err = parse_fault("NOPE:1").expect_err("no such state");
+        assert!(
+            err.contains("PRI_HALF") && err.contains("PRI_ITOF"),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn the_scene_help_lists_every_builtin_scene() {
         let cmd = Cli::command();
-        let render = cmd.find_subcommand("render").expect("render subcommand");
-        let scene = render
-            .get_arguments()
-            .find(|a| a.get_id() == "scene")
-            .expect("--scene");
-        let help = scene.get_help().expect("documented").to_string();
-        for name in Scene::builtin_names() {
-            assert!(help.contains(name), "--scene help lacks {name}: {help}");
+        for sub in ["render", "cosim"] {
+            let sub = cmd.find_subcommand(sub).expect("subcommand");
+            let scene = sub
+                .get_arguments()
+                .find(|a| a.get_id() == "scene")
+                .expect("--scene");
+            let help = scene.get_help().expect("documented").to_string();
+            for name in Scene::builtin_names() {
+                assert!(help.contains(name), "--scene help lacks {name}: {help}");
+            }
         }
     }
 

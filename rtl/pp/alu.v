@@ -65,6 +65,7 @@ module alu #(
     wire [2:0] res_sel  = ctrl[`ALU_CTRL_RES_SEL];
     wire       unit_a_y = ctrl[`ALU_CTRL_UNIT_A_Y];
     wire       roots    = ctrl[`ALU_CTRL_ROOTS];
+    wire       double   = ctrl[`ALU_CTRL_DOUBLE];
 
     // ------------------------------------------------------------------------
     // Registers
@@ -108,9 +109,29 @@ module alu #(
     fp_mul u_mul_z (.a(a_z), .b(mul_b_z), .y(prod_z));
 
     // -(p * q) is the rounded product with its sign bit flipped (NaN too).
-    wire [95:0] prods = {prod_z[31] ^ neg_mul, prod_z[30:0],
-                         prod_y[31] ^ neg_mul, prod_y[30:0],
-                         prod_x[31] ^ neg_mul, prod_x[30:0]};
+    // 2p, exactly p + p rounded: the exponent goes up by one; a subnormal's
+    // bits shift left (into the exponent field if they carry); the largest
+    // binade overflows to infinity; infinities and NaNs pass.
+    function [31:0] twice(input [31:0] p);
+        begin
+            if (p[30:23] == 8'hff)
+                twice = p;
+            else if (p[30:23] == 8'hfe)
+                twice = {p[31], 8'hff, 23'd0};
+            else if (p[30:23] == 8'h00)
+                twice = {p[31], p[29:0], 1'b0};
+            else
+                twice = {p[31], p[30:23] + 8'd1, p[22:0]};
+        end
+    endfunction
+
+    wire [31:0] scaled_x = double ? twice(prod_x) : prod_x;
+    wire [31:0] scaled_y = double ? twice(prod_y) : prod_y;
+    wire [31:0] scaled_z = double ? twice(prod_z) : prod_z;
+
+    wire [95:0] prods = {scaled_z[31] ^ neg_mul, scaled_z[30:0],
+                         scaled_y[31] ^ neg_mul, scaled_y[30:0],
+                         scaled_x[31] ^ neg_mul, scaled_x[30:0]};
 
     // ------------------------------------------------------------------------
     // Adders

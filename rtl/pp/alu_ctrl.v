@@ -17,6 +17,7 @@
 //   MULY     y, y, y          -                          hold               products
 //   MULZ     z, z, z          -                          hold               products
 //   NMULX    x, x, x          -                          hold               -products
+//   MUL2X    x, x, x          -                          hold               2 * products (exact)
 //   MULR1    y, z, x          -                          hold               products
 //   MULR2    z, x, y          -                          hold               products
 //   MOV      -                -                          hold               A
@@ -50,6 +51,7 @@ module alu_ctrl (
     reg [2:0] f_sel, res_sel;
     reg       unit_a_y;
     reg       roots;
+    reg       double;
     reg       writes;
 
     always @* begin
@@ -66,6 +68,7 @@ module alu_ctrl (
         res_sel  = `ALU_RES_ZERO;
         unit_a_y = 1'b0;
         roots    = 1'b0;
+        double   = 1'b0;
         writes   = 1'b0;
         case (op)
             `ISA_OP_ADD: begin
@@ -115,6 +118,13 @@ module alu_ctrl (
                 b_lane_x = `ALU_LANE_Y;
                 b_lane_y = `ALU_LANE_Z;
                 b_lane_z = `ALU_LANE_X;
+                res_sel  = `ALU_RES_MUL;
+                writes   = 1'b1;
+            end
+            `ISA_OP_MUL2X: begin
+                b_lane_y = `ALU_LANE_X;
+                b_lane_z = `ALU_LANE_X;
+                double   = 1'b1;
                 res_sel  = `ALU_RES_MUL;
                 writes   = 1'b1;
             end
@@ -215,6 +225,7 @@ module alu_ctrl (
         packed_ctrl[`ALU_CTRL_RES_SEL]  = res_sel;
         packed_ctrl[`ALU_CTRL_UNIT_A_Y] = unit_a_y;
         packed_ctrl[`ALU_CTRL_ROOTS]    = roots;
+        packed_ctrl[`ALU_CTRL_DOUBLE]   = double;
     end
 
     assign ctrl      = packed_ctrl;

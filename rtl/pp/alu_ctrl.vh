@@ -18,7 +18,7 @@
 `ifndef ALU_CTRL_VH
 `define ALU_CTRL_VH
 
-`define ALU_CTRL_W 21
+`define ALU_CTRL_W 22
 
 // ---------------------------------------------------------------------------
 // Fields
@@ -37,6 +37,7 @@
 `define ALU_CTRL_UNIT_A_Y 19      // fp_recip operand: 0 = A.x, 1 = A.y (RECIPY)
 `define ALU_CTRL_ROOTS 20         // ROOTS: with RES_SEL = SQRT, fp_recip starts too and
                                   // y = <sqrt, recip, +0> when both are done
+`define ALU_CTRL_DOUBLE 21        // double the products (MUL2X): exponent + 1, exact
 
 // ---------------------------------------------------------------------------
 // Codes

@@ -51,6 +51,7 @@
 `define ISA_OP_NMULX 9    // Y = -(A * <B.x, B.x, B.x>)
 `define ISA_OP_MULR1 10   // Y = A * <B.y, B.z, B.x> (B rotated one lane)
 `define ISA_OP_MULR2 11   // Y = A * <B.z, B.x, B.y> (B rotated two lanes)
+`define ISA_OP_MUL2X 3    // Y = p + p, p = A * <B.x, B.x, B.x>: the product doubled (exact)
 `define ISA_OP_MOV 12     // Y = A
 `define ISA_OP_NEG 13     // Y = -A (sign flip, exact)
 `define ISA_OP_ITOF 14    // Y = int-to-float of the controller's <px, -py, 0>
@@ -122,7 +123,9 @@
 // Ray stack, addressed by the controller only through the stack pointer sp:
 // the memory controller maps CUR_<f> to STK<sp>_<f> and PAR_<f> to
 // STK<sp-1>_<f>, i.e. address STK0_O + level * STK_STRIDE + field. Writes
-// (and trace events) carry the decoded STK address, never CUR/PAR.
+// (and trace events) carry the decoded STK address, never CUR/PAR. The
+// root ray's origin and weight are constants: STK0_O decodes to EYE and
+// STK0_W to ONE.
 `define ISA_REG_CUR_O 88       // current ray: origin
 `define ISA_REG_CUR_D 89       // current ray: unit direction
 `define ISA_REG_CUR_COL 90     // current ray: colour gathered so far
@@ -160,8 +163,7 @@
 // Controller FSM states (9-bit ids). A multi-cycle instruction stays in its
 // state until out_valid; its write is reported with that state's id.
 // ---------------------------------------------------------------------------
-`define ISA_ST_IDLE 0             // wait for a pixel (not counted: between pixels)
-`define ISA_ST_PIX_START 1        // latch px, py; sp = 0 (the start cycle)
+`define ISA_ST_IDLE 0             // wait for a pixel (not counted); start: latch px, py, sp = 0
 `define ISA_ST_PIX_DONE 2         // raise done; STK0_COL holds the pixel (the done cycle)
 // Primary ray.
 `define ISA_ST_PRI_ITOF 10        // T = itof(<px, -py, 0>)
@@ -170,8 +172,6 @@
 `define ISA_ST_ROT_SIN_U 13       //   S.u = ROTa_S.u * T.v (MULR1, lane u)
 `define ISA_ST_ROT_SIN_V 14       //   S.v = ROTa_S.v * T.u (MULR2, lane v)
 `define ISA_ST_ROT_ADD 15         //   T.uv = C + S
-`define ISA_ST_PRI_EYE 16         // CUR_O = EYE
-`define ISA_ST_PRI_WEIGHT 17      // CUR_W = ONE
 // Sub-machines: dot product and normalize.
 `define ISA_ST_DOT_1 20           // F = A * B
 `define ISA_ST_DOT_2 21           // F.x = F.x + F.y
@@ -186,9 +186,9 @@
 `define ISA_ST_ISECT_3 28
 `define ISA_ST_ISECT_4 29
 // Bounding box slab test (thesis 3.10.1).
-`define ISA_ST_BOX_NEAR 30        // near-corner offsets N = BOX(s) - o
-`define ISA_ST_BOX_FAR 31         // far-corner offsets  F = BOX(~s) - o
+`define ISA_ST_BOX_FAR 31         // far-corner offsets  F = BOX(~s) - o (first)
 `define ISA_ST_BOX_BEHIND 32      // F * d: a negative lane = box behind the ray
+`define ISA_ST_BOX_NEAR 30        // near-corner offsets N = BOX(s) - o
 `define ISA_ST_BOX_P1 33          // N * rot1(d)
 `define ISA_ST_BOX_Q1 34          // d * rot1(F)
 `define ISA_ST_BOX_D1 35          // entry i vs exit i+1
@@ -196,7 +196,7 @@
 `define ISA_ST_BOX_Q2 37          // d * rot2(F)
 `define ISA_ST_BOX_D2 38          // entry i vs exit i+2
 // Sphere and plane tests.
-`define ISA_ST_SPH_V 40            // v = o - c (then b = v.d by DOT)
+`define ISA_ST_SPH_V 40            // v = o - c (then b = v.d by DOT; b >= 0 ends the test)
 `define ISA_ST_SPH_BD 41           // -b d
 `define ISA_ST_SPH_W 42            // w = v - b d (then disc = r*r - w.w by ISECT)
 `define ISA_ST_SPH_SQRT 43         // sqrt(disc)
@@ -215,8 +215,7 @@
 `define ISA_ST_SH_KD 65            // kd * (n.l)
 `define ISA_ST_SH_CL 66            // colour * light colour
 `define ISA_ST_SH_DIFFUSE 67       // kd * (n.l) * (colour * light colour)
-`define ISA_ST_SH_REFL_K 68        // k = (d.n) n
-`define ISA_ST_SH_REFL_2K 69       // k = k + k
+`define ISA_ST_SH_REFL_K 68        // k = (d.n) n + (d.n) n (MUL2X)
 `define ISA_ST_SH_REFL 70          // r = d - k; latches the direction's sign flags
 `define ISA_ST_SH_POW2 71          // x^2 (x = r.l)
 `define ISA_ST_SH_POW4 72          // x^4

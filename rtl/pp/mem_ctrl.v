@@ -7,8 +7,10 @@
 // the ray stack only relative to the stack pointer sp:
 //   CUR_<f> (ISA_REG_CUR_O + f) -> ISA_REG_STK0_O + sp       * STK_STRIDE + f
 //   PAR_<f> (ISA_REG_PAR_O + f) -> ISA_REG_STK0_O + (sp - 1) * STK_STRIDE + f
-// and every other address is itself. Purely combinational, one decoder per
-// port (read A, read B, write), all three alike.
+// and every other address is itself, except that the root ray's origin and
+// weight are the constants EYE and ONE: STK0_O decodes to ISA_REG_EYE and
+// STK0_W to ISA_REG_ONE (no instruction sets them). Purely combinational,
+// one decoder per port (read A, read B, write), all three alike.
 //
 // Where golden's decode has no answer (PAR_* at sp = 0, or a level at or
 // past STACK_DEPTH) the logical code passes through unchanged: CUR/PAR codes
@@ -36,6 +38,9 @@ module mem_ctrl #(
     localparam [RB-1:0]      CUR_O  = `ISA_REG_CUR_O;
     localparam [RB-1:0]      PAR_O  = `ISA_REG_PAR_O;
     localparam [RB-1:0]      STK0_O = `ISA_REG_STK0_O;
+    localparam [RB-1:0]      STK0_W = `ISA_REG_STK0_W;
+    localparam [RB-1:0]      EYE    = `ISA_REG_EYE;
+    localparam [RB-1:0]      ONE    = `ISA_REG_ONE;
     localparam [RB-1:0]      STRIDE = `ISA_DIM_STK_STRIDE;
     localparam [SP_BITS-1:0] SP_0   = {SP_BITS{1'b0}};
     localparam [SP_BITS:0]   DEPTH  = STACK_DEPTH[SP_BITS:0];
@@ -67,6 +72,10 @@ module mem_ctrl #(
                 decode = cur_base + {{(RB-FIELD_BITS){1'b0}}, field};
             else if (is_par && par_ok)
                 decode = par_base + {{(RB-FIELD_BITS){1'b0}}, field};
+            if (decode == STK0_O)
+                decode = EYE;
+            else if (decode == STK0_W)
+                decode = ONE;
         end
     endfunction
 

@@ -12,8 +12,8 @@
 //   done, rgb <-- PIX_DONE reads STK0_COL through read port A
 //
 // A pixel: start is taken at a rising edge while ready; the controller then
-// spends exactly the cycles golden::micro predicts (PIX_START, one per
-// instruction, latency + 1 per reciprocal or square root, PIX_DONE) and
+// spends exactly the cycles golden::micro predicts (one per instruction,
+// latency + 1 per reciprocal or square root, PIX_DONE) and
 // raises done for one cycle, in which rgb = STK0_COL (rgb is only valid
 // with done). Scene writes are accepted only while ready.
 //

@@ -66,7 +66,7 @@ module pp_ctrl (
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
     localparam       C_HIT = 1'b0, C_SHD = 1'b1;
     localparam [2:0] R_NORM = 3'd0,  // -> NORM_ROOTS
-                     R_SPH  = 3'd1,  // -> SPH_BD
+                     R_SPH  = 3'd1,  // b < 0 ? SPH_BD : the next object
                      R_DIFF = 3'd2,  // n.l > 0 ? SH_KD : the reflection step
                      R_REFL = 3'd3,  // -> SH_REFL_K
                      R_SPEC = 3'd4;  // r.l > 0 ? SH_POW2 : the local colour step
@@ -265,8 +265,6 @@ module pp_ctrl (
             `ISA_ST_ROT_SIN_U:  begin op = `ISA_OP_MULR1; la_w = T_R; la_a = rot_s; la_b = T_P; wmask = rot_u; end
             `ISA_ST_ROT_SIN_V:  begin op = `ISA_OP_MULR2; la_w = T_R; la_a = rot_s; la_b = T_P; wmask = rot_v; end
             `ISA_ST_ROT_ADD:    begin op = `ISA_OP_ADD; la_w = T_P; la_a = T_N; la_b = T_R; wmask = rot_u | rot_v; end
-            `ISA_ST_PRI_EYE:    begin op = `ISA_OP_MOV; la_w = `ISA_REG_CUR_O; la_a = `ISA_REG_EYE; end
-            `ISA_ST_PRI_WEIGHT: begin op = `ISA_OP_MOV; la_w = `ISA_REG_CUR_W; la_a = `ISA_REG_ONE; end
             // dot
             `ISA_ST_DOT_1:      op = `ISA_OP_DOT1;
             `ISA_ST_DOT_2:      op = `ISA_OP_DOT2;
@@ -328,8 +326,7 @@ module pp_ctrl (
             `ISA_ST_SH_KD:      begin op = `ISA_OP_MULX; la_w = T_G; la_a = obj_mat; la_b = T_V; wmask = M_X; end
             `ISA_ST_SH_CL:      begin op = `ISA_OP_MUL; la_w = T_S; la_a = obj_col; la_b = `ISA_REG_LIGHT_COL; end
             `ISA_ST_SH_DIFFUSE: begin op = `ISA_OP_MULX; la_w = T_S; la_a = T_S; la_b = T_G; end
-            `ISA_ST_SH_REFL_K:  begin op = `ISA_OP_MULX; la_w = T_U; la_a = obj_n; la_b = T_Q; end
-            `ISA_ST_SH_REFL_2K: begin op = `ISA_OP_ADD; la_w = T_U; la_a = T_U; la_b = T_U; end
+            `ISA_ST_SH_REFL_K:  begin op = `ISA_OP_MUL2X; la_w = T_U; la_a = obj_n; la_b = T_Q; end
             `ISA_ST_SH_REFL:    begin op = `ISA_OP_SUB; la_w = ray_r; la_a = ray_d; la_b = T_U; end
             `ISA_ST_SH_POW2:    begin op = `ISA_OP_MUL; la_w = T_U; la_a = T_Q; la_b = T_Q; wmask = M_X; end
             `ISA_ST_SH_POW4:    begin op = `ISA_OP_MUL; la_w = T_U; la_a = T_U; la_b = T_U; wmask = M_X; end
@@ -595,7 +592,7 @@ module pp_ctrl (
             best_d  = 1'b0;
             if (sph_first[3]) begin
                 if (bbox)
-                    st_d = `ISA_ST_BOX_NEAR;
+                    st_d = `ISA_ST_BOX_FAR;
                 else
                     sphere_at(sph_first[2:0]);
             end else
@@ -666,9 +663,8 @@ module pp_ctrl (
                 `ISA_ST_IDLE: if (start) begin
                     px_d = px;
                     py_d = py;
-                    st_d = `ISA_ST_PIX_START;
-                end
-                `ISA_ST_PIX_START: begin
+                    // What a start cycle would do, in the edge that takes
+                    // start: the first instruction follows at once.
                     sp_d    = 3'd0;
                     col_d   = 8'd0;
                     excl_d  = 1'b0;
@@ -685,14 +681,13 @@ module pp_ctrl (
                 `ISA_ST_ROT_SIN_U:  st_d = `ISA_ST_ROT_SIN_V;
                 `ISA_ST_ROT_SIN_V:  st_d = `ISA_ST_ROT_ADD;
                 `ISA_ST_ROT_ADD:    rot_from(rot_q + 2'd1);
-                `ISA_ST_PRI_EYE:    st_d = `ISA_ST_PRI_WEIGHT;
-                `ISA_ST_PRI_WEIGHT: search_start(C_HIT, `ISA_REG_CUR_O, `ISA_REG_CUR_D);
                 // dot
                 `ISA_ST_DOT_1:      st_d = `ISA_ST_DOT_2;
                 `ISA_ST_DOT_2:      st_d = `ISA_ST_DOT_3;
                 `ISA_ST_DOT_3: case (dot_ret_q)
                     R_NORM:  st_d = `ISA_ST_NORM_ROOTS;
-                    R_SPH:   st_d = `ISA_ST_SPH_BD;
+                    // b >= 0: the near root is not ahead (sphere_u).
+                    R_SPH:   if (y_neg[0]) st_d = `ISA_ST_SPH_BD; else next_object;
                     R_DIFF:  if (y_pos[0]) st_d = `ISA_ST_SH_KD; else refl_step;
                     R_REFL:  st_d = `ISA_ST_SH_REFL_K;
                     default: if (y_pos[0]) st_d = `ISA_ST_SH_POW2; else local_step;
@@ -704,15 +699,17 @@ module pp_ctrl (
                     dsign_d = y_sign;
                     dneg_d  = y_neg;
                     dpos_d  = y_pos;
+                    // Level 0's origin and weight are EYE and ONE (mem_ctrl).
                     if (norm_pri_q)
-                        st_d = `ISA_ST_PRI_EYE;
+                        search_start(C_HIT, `ISA_REG_CUR_O, `ISA_REG_CUR_D);
                     else
                         search_start(C_SHD, ray_p, T_L);
                 end
                 // box_hit
-                `ISA_ST_BOX_NEAR:   st_d = `ISA_ST_BOX_FAR;
+                // The far corner first: behind the ray after two instructions.
                 `ISA_ST_BOX_FAR:    st_d = `ISA_ST_BOX_BEHIND;
-                `ISA_ST_BOX_BEHIND: if (|y_neg) spheres_done; else st_d = `ISA_ST_BOX_P1;
+                `ISA_ST_BOX_BEHIND: if (|y_neg) spheres_done; else st_d = `ISA_ST_BOX_NEAR;
+                `ISA_ST_BOX_NEAR:   st_d = `ISA_ST_BOX_P1;
                 `ISA_ST_BOX_P1:     st_d = `ISA_ST_BOX_Q1;
                 `ISA_ST_BOX_Q1:     st_d = `ISA_ST_BOX_D1;
                 `ISA_ST_BOX_D1: if (separated(y_pos, y_neg, dsign_q, dsign_r1)) spheres_done;
@@ -780,8 +777,7 @@ module pp_ctrl (
                     diff_d = 1'b1;
                     refl_step;
                 end
-                `ISA_ST_SH_REFL_K:  st_d = `ISA_ST_SH_REFL_2K;
-                `ISA_ST_SH_REFL_2K: st_d = `ISA_ST_SH_REFL;
+                `ISA_ST_SH_REFL_K:  st_d = `ISA_ST_SH_REFL;
                 `ISA_ST_SH_REFL: begin
                     dsign_d = y_sign;
                     dneg_d  = y_neg;

@@ -274,7 +274,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     ) -> Written {
         let route: [usize; 3] = match code {
             op::ADD | op::SUB | op::MUL | op::NMUL => [0, 1, 2],
-            op::MULX | op::NMULX => [0, 0, 0],
+            op::MULX | op::NMULX | op::MUL2X => [0, 0, 0],
             op::MULY => [1, 1, 1],
             op::MULZ => [2, 2, 2],
             op::MULR1 => [1, 2, 0],
@@ -297,6 +297,11 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
                 // fp_add with B's sign bit flipped (thesis 4.2).
                 op::SUB => fp::add(p, -q),
                 op::NMUL | op::NMULX => -fp::mul(p, q),
+                // The doubled product, exactly p + p rounded.
+                op::MUL2X => {
+                    let m = fp::mul(p, q);
+                    fp::add(m, m)
+                }
                 _ => fp::mul(p, q),
             };
         }
@@ -370,6 +375,13 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     #[inline(always)]
     pub fn mulr1(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
         self.lanewise(st, op::MULR1, [y, a, b, m], Location::caller())
+    }
+
+    /// MUL2X: Y = p + p with p = A * <B.x, B.x, B.x> (doubling is exact).
+    #[track_caller]
+    #[inline(always)]
+    pub fn mul2x(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
+        self.lanewise(st, op::MUL2X, [y, a, b, m], Location::caller())
     }
 
     /// MULR2: Y = A * <B.z, B.x, B.y>.
@@ -739,11 +751,12 @@ mod tests {
         assert_eq!(c.nmulx(S, t, A, B, XYZ).value(), [-10.0, -20.0, -30.0]);
         assert_eq!(c.mulr1(S, t, A, B, XYZ).value(), [20.0, 60.0, 30.0]);
         assert_eq!(c.mulr2(S, t, A, B, XYZ).value(), [30.0, 20.0, 60.0]);
+        assert_eq!(c.mul2x(S, t, A, B, XYZ).value(), [20.0, 40.0, 60.0]);
         assert_eq!(c.mov(S, t, A, XYZ).value(), [1.0, 2.0, 3.0]);
         assert_eq!(c.neg(S, t, A, XYZ).value(), [-1.0, -2.0, -3.0]);
         assert_eq!(c.itof(S, t).value(), [3.0, -4.0, 0.0]);
-        assert_eq!(c.stats.instructions(), 13);
-        assert_eq!(c.stats.register_writes, 13);
+        assert_eq!(c.stats.instructions(), 14);
+        assert_eq!(c.stats.register_writes, 14);
     }
 
     #[test]

@@ -111,6 +111,10 @@ pub const fn is_stack_relative(code: u8) -> bool {
 /// The memory controller's decoding: `CUR_<f>` is `STK<sp>_<f>`, `PAR_<f>`
 /// is `STK<sp-1>_<f>`, every other address is itself. `None` for `PAR_*`
 /// at sp = 0 or a level past the stack.
+///
+/// The root ray's origin and weight are always the eye and <1, 1, 1>:
+/// `STK0_O` decodes to `EYE` and `STK0_W` to `ONE` (read-only scene
+/// registers), so the primary ray needs no instructions to set them.
 pub const fn decode(code: u8, sp: usize) -> Option<u8> {
     if !is_stack_relative(code) {
         return Some(code);
@@ -126,6 +130,12 @@ pub const fn decode(code: u8, sp: usize) -> Option<u8> {
     };
     if level >= dim::STK_COUNT {
         return None;
+    }
+    if level == 0 && field == RayField::O as usize {
+        return Some(reg::EYE);
+    }
+    if level == 0 && field == RayField::W as usize {
+        return Some(reg::ONE);
     }
     Some(reg::STK0_O + (level * dim::STK_STRIDE + field) as u8)
 }
@@ -221,6 +231,12 @@ mod tests {
         assert_eq!(decode(reg::PAR_O, 0), None);
         assert_eq!(decode(reg::CUR_O, dim::STK_COUNT), None);
         assert_eq!(decode(reg::T5, 6), Some(reg::T5));
+        // The root's origin and weight are the eye and ONE.
+        assert_eq!(decode(reg::CUR_O, 0), Some(reg::EYE));
+        assert_eq!(decode(reg::CUR_W, 0), Some(reg::ONE));
+        assert_eq!(decode(reg::PAR_O, 1), Some(reg::EYE));
+        assert_eq!(decode(reg::PAR_W, 1), Some(reg::ONE));
+        assert_eq!(decode(reg::CUR_O, 1), Some(stack(1, RayField::O)));
         // Every decoded address is a named register; CUR/PAR never are
         // decoded to themselves.
         for sp in 0..dim::STK_COUNT {

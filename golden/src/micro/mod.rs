@@ -21,14 +21,17 @@
 //! This is the contract the RTL controller is built to. A pixel takes
 //!
 //! ```text
-//! cycles = 1                          PIX_START: latch px, py; sp = 0
-//!        + sum over executed instructions of
+//! cycles = sum over executed instructions of
 //!            1                        every single-cycle instruction
 //!            recip_latency(m) + 1     RECIP, RECIPY (issue with in_valid,
 //!            sqrt_latency(m) + 1      SQRT           write when out_valid)
 //!            max of the two + 1       ROOTS (both units at once)
 //!        + 1                          PIX_DONE: raise done
 //! ```
+//!
+//! counted from the cycle after the rising edge that takes `start` (which
+//! latches px, py and clears sp: the IDLE state's next-state logic, no cycle
+//! of its own) to the PIX_DONE cycle inclusive.
 //!
 //! and nothing else: every other cycle issues an instruction. The
 //! controller's own work (loop counters, object exclusion, the stack
@@ -57,15 +60,15 @@ use loader::Config;
 use rayon::prelude::*;
 use std::panic::Location;
 
-/// Cycles of every pixel outside its instructions: PIX_START and PIX_DONE.
-pub const FIXED_CYCLES: u64 = 2;
+/// Cycles of every pixel outside its instructions: PIX_DONE.
+pub const FIXED_CYCLES: u64 = 1;
 
 /// One pixel's result.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PixelResult {
     /// Linear RGB, STK0_COL when done.
     pub rgb: [f32; 3],
-    /// The RTL cycles from PIX_START to PIX_DONE inclusive (see the cycle
+    /// The RTL cycles from the first instruction to PIX_DONE inclusive (see the cycle
     /// rule above): `ops.instruction_cycles() + FIXED_CYCLES`.
     pub cycles: u64,
     /// The instructions executed.

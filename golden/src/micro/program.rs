@@ -133,7 +133,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         }
     }
 
-    /// Runs the pixel (the cycles between PIX_START and PIX_DONE) and
+    /// Runs the pixel (the cycles before PIX_DONE) and
     /// returns the colour in STK0_COL.
     pub fn run(&mut self) -> [u32; 3] {
         self.primary_ray();
@@ -220,10 +220,8 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             c.mulr2(st::ROT_SIN_V, t::R, rs, t::P, v); // s * u
             c.add(st::ROT_ADD, t::P, t::N, t::R, u | v);
         }
+        // CUR_O and CUR_W at level 0 are EYE and ONE (isa::decode).
         self.normalize(reg::CUR_D, t::P);
-        let c = &mut self.core;
-        c.mov(st::PRI_EYE, reg::CUR_O, reg::EYE, XYZ);
-        c.mov(st::PRI_WEIGHT, reg::CUR_W, reg::ONE, XYZ);
     }
 
     // -----------------------------------------------------------------------
@@ -243,7 +241,13 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     fn sphere_u(&mut self, k: usize, o: u8, d: u8, dst: u8) -> Option<Written> {
         self.core
             .sub(st::SPH_V, t::V, o, isa::sphere(k, SphereField::C), XYZ);
-        self.dot(t::Q, t::V, d); // Q.x = b
+        // Q.x = b. With b >= 0 (or NaN) u = sqrt(disc) + b below is never
+        // < 0 (a rounded sum of non-negative numbers), so the near root is
+        // not ahead of the ray whatever disc is: the test ends here, and
+        // exactly the same hits are found.
+        if !self.dot(t::Q, t::V, d).neg(0) {
+            return None;
+        }
         let c = &mut self.core;
         c.nmulx(st::SPH_BD, t::U, d, t::Q, XYZ); // -b d
         c.add(st::SPH_W, t::V, t::V, t::U, XYZ); // w = v - b d
@@ -309,12 +313,14 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     fn box_hit(&mut self, o: u8, d: u8) -> bool {
         let s = self.dir.sign as usize;
         let c = &mut self.core;
-        c.sub(st::BOX_NEAR, t::V, isa::corner(s), o, XYZ);
+        // The far corner first: a box behind the ray is refused after two
+        // instructions instead of three.
         c.sub(st::BOX_FAR, t::G, isa::corner(s ^ 7), o, XYZ);
         let behind = c.mul(st::BOX_BEHIND, t::S, t::G, d, XYZ);
         if (0..3).any(|i| behind.neg(i)) {
             return false;
         }
+        c.sub(st::BOX_NEAR, t::V, isa::corner(s), o, XYZ);
         c.mulr1(st::BOX_P1, t::Q, t::V, d, XYZ); // N_i d_(i+1)
         c.mulr1(st::BOX_Q1, t::U, d, t::G, XYZ); // d_i F_(i+1)
         let d1 = c.sub(st::BOX_D1, t::Q, t::Q, t::U, XYZ);
@@ -524,8 +530,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         if push || (lit && bits.specular) {
             self.dot(t::Q, ray.d, n);
             let c = &mut self.core;
-            c.mulx(st::SH_REFL_K, t::U, n, t::Q, XYZ);
-            c.add(st::SH_REFL_2K, t::U, t::U, t::U, XYZ);
+            c.mul2x(st::SH_REFL_K, t::U, n, t::Q, XYZ); // k = 2 (d.n) n
             let r = c.sub(st::SH_REFL, ray.r, ray.d, t::U, XYZ);
             self.dir = DirFlags::of(&r);
         }

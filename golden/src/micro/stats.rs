@@ -9,7 +9,7 @@ use std::fmt;
 pub enum OpClass {
     /// ADD, SUB: the vector adder alone.
     Add,
-    /// MUL, NMUL, MULX, MULY, MULZ, NMULX, MULR1, MULR2: the vector multiplier alone.
+    /// MUL, NMUL, MULX, MULY, MULZ, NMULX, MULR1, MULR2, MUL2X: the vector multiplier alone.
     Mul,
     /// MOV, NEG: bypass.
     Mov,
@@ -52,7 +52,8 @@ impl OpClass {
             | op::MULZ
             | op::NMULX
             | op::MULR1
-            | op::MULR2 => OpClass::Mul,
+            | op::MULR2
+            | op::MUL2X => OpClass::Mul,
             op::MOV | op::NEG => OpClass::Mov,
             op::ITOF => OpClass::Itof,
             op::DOT1 | op::DOT2 | op::DOT3 => OpClass::Dot,
