@@ -183,7 +183,7 @@ fn a_lit_sphere_pixel_takes_the_hand_counted_cycles() {
     }
 }
 
-/// cycles = 2 + every instruction's cycles, recomputed from the counts.
+/// cycles = FIXED_CYCLES + every instruction's cycles, recomputed from the counts.
 fn check_cycle_rule(scene: &Scene, r: &PixelResult) {
     let ops = &r.ops;
     let (recip, sqrt) = (ops.count_of(OpClass::Recip), ops.count_of(OpClass::Sqrt));
