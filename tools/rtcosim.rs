@@ -499,11 +499,12 @@ fn cosim_command(args: CosimArgs) -> Result<bool> {
     writeln!(
         out,
         "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, hash {:016x}), window {window} \
-         ({} pixels), recip {recip}, sqrt {sqrt}, {threads} thread{}, {}",
+         ({} pixel{}), recip {recip}, sqrt {sqrt}, {threads} thread{}, {}",
         args.scene,
         scene.render.max_depth,
         scene.content_hash(),
         window.pixels(),
+        if window.pixels() == 1 { "" } else { "s" },
         if threads == 1 { "" } else { "s" },
         rtcosim::VERILATOR_VERSION
     )?;
