@@ -413,11 +413,11 @@ module pp_ctrl (
     // without issuing an instruction; they read the *_d values set before
     // them in the same cycle.
 
-    task call_dot(input [RW-1:0] a, input [RW-1:0] b, input [RW-1:0] y, input [2:0] ret);
+    task call_dot(input [RW-1:0] src_a, input [RW-1:0] src_b, input [RW-1:0] dst, input [2:0] ret);
         begin
-            dot_a_d   = a;
-            dot_b_d   = b;
-            dot_y_d   = y;
+            dot_a_d   = src_a;
+            dot_b_d   = src_b;
+            dot_y_d   = dst;
             dot_ret_d = ret;
             st_d      = `ISA_ST_DOT_1;
         end
