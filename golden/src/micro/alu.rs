@@ -211,6 +211,24 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         (self.regs.valid[a] == XYZ).then(|| [lane(0), lane(1), lane(2)])
     }
 
+    /// The end of every instruction that writes the register file: count
+    /// its cycles, write lanes `mask` of `y` to `dst` (emitting the event),
+    /// and hand the written value to the controller's branches.
+    #[inline(always)]
+    fn retire(
+        &mut self,
+        state: u16,
+        code: u8,
+        dst: u8,
+        mask: u8,
+        y: Vec3,
+        at: &'static Location<'static>,
+    ) -> Written {
+        self.count(code);
+        self.write(state, dst, mask, y, at);
+        Written { value: y, mask }
+    }
+
     #[inline(always)]
     fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3, at: &'static Location<'static>) {
         let a = self.decode(code, at);
@@ -305,9 +323,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
                 _ => fp::mul(p, q),
             };
         }
-        self.count(code);
-        self.write(state, dst, mask, y, at);
-        Written { value: y, mask }
+        self.retire(state, code, dst, mask, y, at)
     }
 
     // -----------------------------------------------------------------------
@@ -397,9 +413,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     pub fn mov(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
         let at = Location::caller();
         let v = self.read(a, m, at);
-        self.count(op::MOV);
-        self.write(st, y, m, v, at);
-        Written { value: v, mask: m }
+        self.retire(st, op::MOV, y, m, v, at)
     }
 
     /// NEG: Y = -A (the sign bits flipped, exact).
@@ -409,9 +423,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let at = Location::caller();
         let [vx, vy, vz] = self.read(a, m, at);
         let v = [-vx, -vy, -vz];
-        self.count(op::NEG);
-        self.write(st, y, m, v, at);
-        Written { value: v, mask: m }
+        self.retire(st, op::NEG, y, m, v, at)
     }
 
     /// ITOF: Y = <itof(px), itof(-py), itof(0)>, from the controller's pixel
@@ -425,12 +437,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             fp::itof(-(self.py as i32)),
             fp::itof(0),
         ];
-        self.count(op::ITOF);
-        self.write(st, y, XYZ, v, at);
-        Written {
-            value: v,
-            mask: XYZ,
-        }
+        self.retire(st, op::ITOF, y, XYZ, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -464,9 +471,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let at = Location::caller();
         let f = self.f(at);
         let v = [fp::add(f[0], f[2]), 0.0, 0.0];
-        self.count(op::DOT3);
-        self.write(st, y, X, v, at);
-        Written { value: v, mask: X }
+        self.retire(st, op::DOT3, y, X, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -516,12 +521,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
         let g = lanes3(|i| fp::mul(av[i], bv[i]));
         self.f = [fp::add(f[0], f[1]), f[1], f[2]];
-        self.count(op::ISECT2);
-        self.write(st, y, XYZ, g, at);
-        Written {
-            value: g,
-            mask: XYZ,
-        }
+        self.retire(st, op::ISECT2, y, XYZ, g, at)
     }
 
     /// ISECT3: F = <A.x + A.y, F.x + F.z, A.z> [A = g].
@@ -544,12 +544,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let av = self.read(a, X, at);
         let v = [fp::add(av[0], f[1]), fp::add(f[0], f[2]), 0.0];
         self.f = v;
-        self.count(op::ISECT4);
-        self.write(st, y, XYZ, v, at);
-        Written {
-            value: v,
-            mask: XYZ,
-        }
+        self.retire(st, op::ISECT4, y, XYZ, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -586,12 +581,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let at = Location::caller();
         let x = self.read(a, X, at)[0];
         let v = [fp::sqrt(x, self.sqrt), fp::recip(x, self.recip), 0.0];
-        self.count(op::ROOTS);
-        self.write(st, y, X | Y, v, at);
-        Written {
-            value: v,
-            mask: X | Y,
-        }
+        self.retire(st, op::ROOTS, y, X | Y, v, at)
     }
 
     #[inline(always)]
@@ -611,9 +601,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             fp::recip(x, self.recip)
         };
         let v = [r, 0.0, 0.0];
-        self.count(code);
-        self.write(st, y, X, v, at);
-        Written { value: v, mask: X }
+        self.retire(st, code, y, X, v, at)
     }
 }
 
