@@ -20,7 +20,7 @@ pub(crate) mod ffi {
         SqrtFast,
     }
 
-    /// One trace event as the RTL's debug port shows it (the pixel and the
+    /// One trace event as the RTL's trace port shows it (the pixel and the
     /// sequence number are the caller's to add).
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     struct PpEvent {

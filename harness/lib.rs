@@ -7,15 +7,23 @@
 //!   reports every disagreement, measured in ULPs.
 //! - [`pixel_proc`]: the verilated pixel processor, one pixel per call, with
 //!   its trace and fault-injection ports.
-//! - [`cosim`]: the pixel processor against the golden micro-op model,
-//!   event by event, cycle for cycle, streaming.
+//! - [`compare`]: the comparison engine: two event streams and two pixel
+//!   outcomes per pixel, whatever produced them; verdicts and reports.
+//! - [`cosim`]: the live run of the pixel processor against the golden
+//!   micro-op model, event by event, cycle for cycle, streaming.
+//! - [`scenes`]: scenes as the user names them, with size and method
+//!   overrides.
+//! - [`trace_files`]: trace-file headers and writers for a window.
 
 mod bridge;
+pub mod compare;
 pub mod cosim;
 pub mod fp_check;
 pub mod fp_unit;
 pub mod operands;
 pub mod pixel_proc;
+pub mod scenes;
+pub mod trace_files;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

@@ -2,6 +2,10 @@
 //! (recip, sqrt) method pair, verilated with its trace and fault ports
 //! (`PP_TRACE`).
 //!
+//! The trace port (`trace_valid`, `trace_state`, `trace_dst`, `trace_lanes`,
+//! `trace_value`) shows every register-file write; the fault port
+//! (`fault_state`, `fault_xor`) flips bits of chosen writes ([`Fault`]).
+//!
 //! # The cycle contract
 //!
 //! After reset (rst_n low for two rising edges) `ready` is high. A scene is
@@ -27,20 +31,72 @@
 use crate::bridge::ffi;
 use cxx::UniquePtr;
 use golden::fp::Method;
-use golden::micro::isa;
+use golden::micro::isa::{self, state_label};
 use golden::micro::loader::{self, Config};
+use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
+use std::str::FromStr;
 
-/// What one pixel returned.
+/// A fault to inject through the fault port: a self-test of the harness.
+/// Every register-file write the RTL makes in controller state `state` has
+/// its lane x XORed with `xor` (written and traced alike).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct RtlPixel {
-    /// `rgb` in the done cycle, as raw f32 bits, lanes r, g, b.
-    pub rgb: [u32; 3],
-    /// Cycles with `ready` low from the start edge to done inclusive.
-    pub cycles: u64,
-    /// Trace events (register-file writes) the pixel made.
-    pub events: u64,
+pub struct Fault {
+    /// Controller state id (`rtl/pp/isa.vh`) whose writes are hit.
+    pub state: u16,
+    /// Nonzero mask XORed into lane x of those writes.
+    pub xor: u32,
+}
+
+/// A number in decimal, or in hex with a `0x` prefix.
+pub fn parse_number(s: &str) -> Option<u64> {
+    let s = s.trim();
+    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(hex) if !hex.starts_with('+') => u64::from_str_radix(hex, 16).ok(),
+        Some(_) => None,
+        None => s.parse().ok(),
+    }
+}
+
+impl FromStr for Fault {
+    type Err = String;
+
+    /// `STATE:XOR`: a controller state of rtl/pp/isa.vh by name (any case,
+    /// an `ISA_ST_` prefix allowed) or number, and a nonzero 32-bit mask in
+    /// hex (`0x400`) or decimal.
+    fn from_str(s: &str) -> Result<Fault, String> {
+        let (state_arg, xor_arg) = s
+            .split_once(':')
+            .ok_or_else(|| format!("expected STATE:XOR, e.g. PRI_HALF:0x400; got {s:?}"))?;
+        let state_arg = state_arg.trim();
+        let state = match parse_number(state_arg) {
+            Some(n) => u16::try_from(n)
+                .ok()
+                .filter(|&id| isa::state_name(id).is_some()),
+            None => {
+                let upper = state_arg.to_ascii_uppercase();
+                isa::state_code(upper.strip_prefix("ISA_ST_").unwrap_or(&upper))
+            }
+        }
+        .ok_or_else(|| {
+            let names: Vec<&str> = isa::STATES.iter().map(|&(name, _)| name).collect();
+            format!(
+                "{state_arg:?} is not a controller state of rtl/pp/isa.vh; the states: {}",
+                names.join(", ")
+            )
+        })?;
+        let xor = parse_number(xor_arg)
+            .and_then(|n| u32::try_from(n).ok())
+            .filter(|&x| x != 0)
+            .ok_or_else(|| {
+                format!(
+                    "the XOR mask {:?} is not a nonzero 32-bit number (hex 0x400 or decimal 1024)",
+                    xor_arg.trim()
+                )
+            })?;
+        Ok(Fault { state, xor })
+    }
 }
 
 /// Why the pixel processor did not finish a pixel.
@@ -126,14 +182,6 @@ pub enum PpError {
     Poisoned,
 }
 
-/// `NAME (id)` from the ISA's state table, or `state#id`.
-pub fn state_label(id: u16) -> String {
-    match isa::state_name(id) {
-        Some(name) => format!("{name} ({id})"),
-        None => format!("state#{id}"),
-    }
-}
-
 /// Cycles a pixel may take before it counts as hung. The slowest pixel of
 /// any builtin scene takes well under 10,000.
 pub const DEFAULT_TIMEOUT_CYCLES: u64 = 100_000;
@@ -156,7 +204,7 @@ pub struct PixelProcessor {
     sqrt: Method,
     inner: UniquePtr<ffi::PixelProc>,
     scene: Option<Loaded>,
-    fault: Option<(u16, u32)>,
+    fault: Option<Fault>,
     timeout_cycles: u64,
     poisoned: bool,
     scratch: Vec<ffi::PpEvent>,
@@ -249,15 +297,17 @@ impl PixelProcessor {
         Ok(())
     }
 
-    /// From the next pixel on, a register-file write in state `state` has
-    /// its lane x XORed with `xor` (written and traced). `xor = 0` disables.
-    pub fn set_fault(&mut self, state: u16, xor: u32) {
-        self.fault = (xor != 0).then_some((state, xor));
+    /// From the next pixel on, injects `fault` (see [`Fault`]); `None`
+    /// switches it off.
+    pub fn set_fault(&mut self, fault: Option<Fault>) {
+        let fault = fault.filter(|f| f.xor != 0);
+        let (state, xor) = fault.map_or((0, 0), |f| (f.state, f.xor));
+        self.fault = fault;
         self.inner.pin_mut().set_fault(state, xor);
     }
 
-    /// The fault set by [`PixelProcessor::set_fault`]: (state, xor).
-    pub fn fault(&self) -> Option<(u16, u32)> {
+    /// The fault set by [`PixelProcessor::set_fault`].
+    pub fn fault(&self) -> Option<Fault> {
         self.fault
     }
 
@@ -268,7 +318,7 @@ impl PixelProcessor {
         px: u32,
         py: u32,
         trace: Option<&mut Vec<TraceEvent>>,
-    ) -> Result<RtlPixel, PpError> {
+    ) -> Result<PixelOutcome, PpError> {
         if self.poisoned {
             return Err(PpError::Poisoned);
         }
@@ -337,7 +387,7 @@ impl PixelProcessor {
                 values: e.values,
             }));
         }
-        Ok(RtlPixel {
+        Ok(PixelOutcome {
             rgb: run.rgb,
             cycles: run.cycles,
             events: run.events,

@@ -18,8 +18,10 @@ use golden::fp::{Method, UlpDistance};
 use golden::micro::isa::{self, state};
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
-use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, DivergenceKind, Fault, Window};
-use rtcosim::pixel_proc::{HangKind, PixelProcessor, PpError};
+use golden::window::Window;
+use rtcosim::compare::DivergenceKind;
+use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
+use rtcosim::pixel_proc::{Fault, HangKind, PixelProcessor, PpError};
 
 /// The method pairs every scene is co-simulated with.
 const METHODS: [(Method, Method); 2] =
@@ -27,18 +29,8 @@ const METHODS: [(Method, Method); 2] =
 
 /// `scene` with other recip and sqrt methods (validated again).
 fn with_methods(scene: &Scene, recip: Method, sqrt: Method) -> Scene {
-    let mut render = scene.render;
-    render.recip = recip;
-    render.sqrt = sqrt;
-    Scene::new(
-        "test scene",
-        scene.camera.clone(),
-        scene.light.clone(),
-        scene.spheres.clone(),
-        scene.planes.clone(),
-        render,
-    )
-    .expect("only the methods changed")
+    rtcosim::scenes::with_methods(scene, recip, sqrt, "test scene")
+        .expect("only the methods changed")
 }
 
 fn builtin(name: &str, width: u32, height: u32) -> Scene {
@@ -53,16 +45,18 @@ fn cosim_all(scene: &Scene, window: Window) -> CosimReport {
         .unwrap_or_else(|e| panic!("co-simulation failed: {e}"))
 }
 
+/// The RTL is side A of the comparison, golden side B.
 fn assert_agrees(report: &CosimReport, pixels: u64) {
-    assert_eq!(report.pixels, pixels, "pixels run\n{report}");
-    assert!(report.events_compared > 0, "no events compared\n{report}");
+    let c = &report.compare.counts;
+    assert_eq!(c.pixels, pixels, "pixels run\n{report}");
+    assert!(c.events_compared > 0, "no events compared\n{report}");
     assert!(
-        report.divergent_pixels == 0 && report.first_divergence.is_none(),
+        c.divergent_pixels == 0 && report.compare.first_divergence.is_none(),
         "{report}"
     );
-    assert_eq!(report.rtl_events, report.golden_events, "{report}");
-    assert_eq!(report.events_compared, report.golden_events, "{report}");
-    assert_eq!(report.rtl_cycles, report.golden_cycles, "{report}");
+    assert_eq!(c.a_events, c.b_events, "{report}");
+    assert_eq!(c.events_compared, c.b_events, "{report}");
+    assert_eq!(c.a_cycles, c.b_cycles, "{report}");
     assert!(report.passed(), "{report}");
 }
 
@@ -164,23 +158,33 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
         let report = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
         let name = isa::state_name(fault_state).expect("named");
         let d = report
+            .compare
             .first_divergence
             .unwrap_or_else(|| panic!("a fault in {name} went unnoticed\n{report}"));
         assert_eq!((d.x, d.y), (window.x, window.y), "{report}");
         assert_eq!(d.seq(), Some(seq), "{report}");
-        let DivergenceKind::Event { rtl, golden, at } = d.kind else {
+        let DivergenceKind::Event {
+            a: rtl,
+            b: golden,
+            at,
+        } = d.kind
+        else {
             panic!("not an event divergence\n{report}");
         };
         assert_eq!((rtl.state, golden.state), (fault_state, fault_state));
         assert_eq!((rtl.dst, rtl.lanes), (golden.dst, golden.lanes));
         assert_eq!(rtl.values[0], golden.values[0] ^ xor, "{report}");
-        assert_eq!(at, line);
+        assert_eq!(at, Some(line));
         assert!(
             d.max_distance().is_some_and(|u| u > UlpDistance::Ulps(0)),
             "{report}"
         );
         // Every pixel writes in that state.
-        assert_eq!(report.divergent_pixels, window.pixels(), "{report}");
+        assert_eq!(
+            report.compare.counts.divergent_pixels,
+            window.pixels(),
+            "{report}"
+        );
         let text = report.to_string();
         assert!(
             text.contains(&format!("RTL state {name} ({fault_state})")),
@@ -248,9 +252,12 @@ fn pixels_do_not_depend_on_history() {
     run(&mut pp, 3, 4);
     run(&mut pp, 39, 29);
     assert_eq!(run(&mut pp, 20, 20), first);
-    pp.set_fault(state::PRI_HALF, 1 << 10);
+    pp.set_fault(Some(Fault {
+        state: state::PRI_HALF,
+        xor: 1 << 10,
+    }));
     run(&mut pp, 20, 20);
-    pp.set_fault(state::PRI_HALF, 0);
+    pp.set_fault(None);
     assert_eq!(run(&mut pp, 20, 20), first);
     assert_eq!(
         loaded(&scene).run_pixel(20, 20, None).expect("runs"),
@@ -288,8 +295,8 @@ fn the_report_does_not_depend_on_the_thread_count() {
         report
     };
     let one = with_threads(1);
-    assert_eq!(one.pixels, window.pixels());
-    assert!(one.first_divergence.is_some(), "{one}");
+    assert_eq!(one.compare.counts.pixels, window.pixels());
+    assert!(one.compare.first_divergence.is_some(), "{one}");
     assert_eq!(with_threads(3), one);
 }
 
@@ -327,7 +334,7 @@ fn a_pixel_outside_the_image_is_an_error() {
     ] {
         let err =
             cosim::run(&scene, window, &CosimOptions::default(), &|_| {}).expect_err("outside");
-        assert!(matches!(err, CosimError::Window { .. }), "{err}");
+        assert!(matches!(err, CosimError::Window(_)), "{err}");
     }
 }
 

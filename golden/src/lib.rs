@@ -10,12 +10,16 @@
 //! - [`reference`](mod@reference): the f64 reference renderer, ground truth for accuracy.
 //! - [`frame`]: rendered frames: PNG output and frame-to-frame comparison.
 //! - [`trace`]: trace events (one per register-file write) and trace files.
+//! - [`pixel`]: a pixel's outcome (colour bits, cycles, events), on any side.
+//! - [`window`]: a rectangle of pixels, parsed from and written as corners.
 //! - [`micro`]: the f32 micro-op model of the RTL pixel processor, one ALU
 //!   instruction per line, with its ISA generated from `rtl/pp/isa.vh`.
 
 pub mod fp;
 pub mod frame;
 pub mod micro;
+pub mod pixel;
 pub mod reference;
 pub mod scene;
 pub mod trace;
+pub mod window;

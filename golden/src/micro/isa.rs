@@ -171,6 +171,32 @@ pub fn state_code(name: &str) -> Option<u16> {
     STATES.iter().find(|(n, _)| *n == name).map(|&(_, c)| c)
 }
 
+/// `NAME (id)` from the state table, or `state#id`.
+pub fn state_label(id: u16) -> String {
+    match state_name(id) {
+        Some(name) => format!("{name} ({id})"),
+        None => format!("state#{id}"),
+    }
+}
+
+/// The register's name, or `r{a}`.
+pub fn register_label(a: u8) -> String {
+    register_name(a).map_or_else(|| format!("r{a}"), str::to_string)
+}
+
+/// The lanes of a lane mask, `_` for those left out: `xyz`, `x_z`.
+pub fn lanes_label(mask: u8) -> String {
+    (0..3)
+        .map(|i| {
+            if mask >> i & 1 == 1 {
+                ['x', 'y', 'z'][i]
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
 /// The name of opcode `code` (`"ISECT2"`), or `None`.
 pub fn op_name(code: u8) -> Option<&'static str> {
     OPS.iter().find(|&&(_, c)| c == code).map(|&(n, _)| n)

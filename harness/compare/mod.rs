@@ -1,0 +1,450 @@
+//! The comparison engine: two streams of [`TraceEvent`]s and two
+//! [`PixelOutcome`]s per pixel, whatever produced them.
+//!
+//! A live co-simulation feeds it the RTL's events against the golden
+//! model's as they are produced; a trace diff feeds it two files; an
+//! N-processor top feeds it each pixel's events once they are split out by
+//! processor. Each pixel is compared on its own ([`PixelCompare`], events in
+//! sequence order), and ends in a [`PixelVerdict`]; verdicts add up into a
+//! [`CompareReport`], whose counts add exactly and whose first divergence is
+//! the first in row order, so reports of disjoint pixel sets merge to the
+//! same report in any order.
+//!
+//! The two sides are called A and B; [`Labels`] names them for people ("RTL"
+//! and "golden" in a co-simulation). Two events agree when they have the
+//! same state, destination and lane mask and every written lane is within
+//! the [`Tolerance`] (0 ULP by default; NaN equals NaN, +0 and -0 differ).
+
+mod text;
+
+use golden::fp::{ulp_distance, UlpDistance};
+use golden::pixel::PixelOutcome;
+use golden::trace::TraceEvent;
+use std::panic::Location;
+
+/// The source line of the golden model that issued an event.
+pub type SourceLine = &'static Location<'static>;
+
+/// What the two sides are called in reports.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Labels {
+    pub a: String,
+    pub b: String,
+}
+
+impl Labels {
+    pub fn new(a: impl Into<String>, b: impl Into<String>) -> Labels {
+        Labels {
+            a: a.into(),
+            b: b.into(),
+        }
+    }
+
+    /// A co-simulation: the RTL (A) against the golden model (B).
+    pub fn rtl_golden() -> Labels {
+        Labels::new("RTL", "golden")
+    }
+}
+
+/// How far apart two written lanes may be and still agree.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Tolerance {
+    /// Largest ULP distance that counts as agreement (0: bit for bit, but
+    /// every NaN equals every NaN).
+    pub max_ulps: u32,
+}
+
+/// ULP distance of lane `i` between two events, when both wrote it.
+pub fn lane_distance(a: &TraceEvent, b: &TraceEvent, i: usize) -> Option<UlpDistance> {
+    (a.lanes >> i & 1 == 1 && b.lanes >> i & 1 == 1).then(|| {
+        ulp_distance(
+            f32::from_bits(a.values[i]),
+            f32::from_bits(b.values[i]),
+            false,
+        )
+    })
+}
+
+/// Whether two events differ in state, destination, lanes or a written
+/// value beyond `tolerance` (the pixel and seq are not compared: the caller
+/// pairs them).
+pub fn events_differ(a: &TraceEvent, b: &TraceEvent, tolerance: Tolerance) -> bool {
+    a.state != b.state
+        || a.dst != b.dst
+        || a.lanes != b.lanes
+        || (0..3).any(|i| lane_distance(a, b, i).is_some_and(|d| !d.within(tolerance.max_ulps)))
+}
+
+/// Whether two colours differ beyond `tolerance`.
+fn rgb_differs(a: [u32; 3], b: [u32; 3], tolerance: Tolerance) -> bool {
+    (0..3).any(|i| {
+        !ulp_distance(f32::from_bits(a[i]), f32::from_bits(b[i]), false).within(tolerance.max_ulps)
+    })
+}
+
+/// Counts of how many lanes were how far apart: bucket 0 holds exact
+/// agreement, bucket `k` in 1..=32 distances in `2^(k-1) .. 2^k`, and the
+/// last bucket NaN against a number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UlpHistogram {
+    pub buckets: [u64; UlpHistogram::BUCKETS],
+}
+
+impl Default for UlpHistogram {
+    fn default() -> UlpHistogram {
+        UlpHistogram {
+            buckets: [0; UlpHistogram::BUCKETS],
+        }
+    }
+}
+
+impl UlpHistogram {
+    pub const BUCKETS: usize = 34;
+    /// The bucket of NaN-against-a-number.
+    pub const NAN: usize = UlpHistogram::BUCKETS - 1;
+
+    /// The bucket `d` falls in.
+    pub fn bucket(d: UlpDistance) -> usize {
+        match d {
+            UlpDistance::Ulps(n) => (u32::BITS - n.leading_zeros()) as usize,
+            UlpDistance::NanMismatch => UlpHistogram::NAN,
+        }
+    }
+
+    pub fn add(&mut self, d: UlpDistance) {
+        self.buckets[UlpHistogram::bucket(d)] += 1;
+    }
+
+    pub fn merge(&mut self, other: &UlpHistogram) {
+        for (a, b) in self.buckets.iter_mut().zip(other.buckets) {
+            *a += b;
+        }
+    }
+
+    /// Lanes counted.
+    pub fn total(&self) -> u64 {
+        self.buckets.iter().sum()
+    }
+
+    /// The label of bucket `k`: `0`, `1`, `2-3`, ..., `NaN vs number`.
+    pub fn bucket_label(k: usize) -> String {
+        match k {
+            0 => "0".to_string(),
+            1 => "1".to_string(),
+            UlpHistogram::NAN => "NaN vs number".to_string(),
+            k => format!("{}-{}", 1u64 << (k - 1), (1u64 << k) - 1),
+        }
+    }
+}
+
+/// What diverged first in a pixel: the first event that differs (in
+/// sequence order), else a missing or extra event, else the colour, else
+/// the cycle count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DivergenceKind {
+    /// Event `seq` differs in state, destination, lanes or a written value.
+    Event {
+        a: TraceEvent,
+        b: TraceEvent,
+        /// The golden source line that issued B's event, when B is a live
+        /// golden model.
+        at: Option<SourceLine>,
+    },
+    /// A wrote fewer events: B's event at this seq has no counterpart.
+    MissingEvent {
+        b: TraceEvent,
+        at: Option<SourceLine>,
+    },
+    /// A wrote more events: this one has no counterpart in B.
+    ExtraEvent { a: TraceEvent },
+    /// Every event agreed, but not the colour.
+    Rgb,
+    /// Events and colour agreed, but not the cycle count.
+    Cycles,
+}
+
+/// The first divergence of a pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Divergence {
+    pub x: u32,
+    pub y: u32,
+    pub kind: DivergenceKind,
+    pub a: PixelOutcome,
+    pub b: PixelOutcome,
+}
+
+impl Divergence {
+    /// The sequence number of the diverging event, if an event diverged.
+    pub fn seq(&self) -> Option<u32> {
+        match self.kind {
+            DivergenceKind::Event { b, .. } | DivergenceKind::MissingEvent { b, .. } => Some(b.seq),
+            DivergenceKind::ExtraEvent { a } => Some(a.seq),
+            DivergenceKind::Rgb | DivergenceKind::Cycles => None,
+        }
+    }
+
+    /// The largest ULP distance over the lanes both events wrote (for an
+    /// event divergence).
+    pub fn max_distance(&self) -> Option<UlpDistance> {
+        match &self.kind {
+            DivergenceKind::Event { a, b, .. } => {
+                (0..3).filter_map(|i| lane_distance(a, b, i)).max()
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether `self` comes before `other` in row order.
+    fn precedes(&self, other: &Divergence) -> bool {
+        (self.y, self.x) < (other.y, other.x)
+    }
+}
+
+/// One pixel's comparison, fed event by event in sequence order: a pair
+/// for every sequence number both sides reached, then the events only one
+/// side made.
+#[derive(Debug, Clone)]
+pub struct PixelCompare {
+    x: u32,
+    y: u32,
+    tolerance: Tolerance,
+    compared: u64,
+    mismatches: u64,
+    ulps: UlpHistogram,
+    first: Option<DivergenceKind>,
+}
+
+impl PixelCompare {
+    pub fn new(x: u32, y: u32, tolerance: Tolerance) -> PixelCompare {
+        PixelCompare {
+            x,
+            y,
+            tolerance,
+            compared: 0,
+            mismatches: 0,
+            ulps: UlpHistogram::default(),
+            first: None,
+        }
+    }
+
+    /// Both sides made an event at this sequence number.
+    pub fn pair(&mut self, a: &TraceEvent, b: &TraceEvent, at: Option<SourceLine>) {
+        self.compared += 1;
+        for i in 0..3 {
+            if let Some(d) = lane_distance(a, b, i) {
+                self.ulps.add(d);
+            }
+        }
+        if events_differ(a, b, self.tolerance) {
+            self.mismatches += 1;
+            self.first
+                .get_or_insert(DivergenceKind::Event { a: *a, b: *b, at });
+        }
+    }
+
+    /// B made an event where A had ended.
+    pub fn only_b(&mut self, b: &TraceEvent, at: Option<SourceLine>) {
+        self.first
+            .get_or_insert(DivergenceKind::MissingEvent { b: *b, at });
+    }
+
+    /// A made an event where B had ended.
+    pub fn only_a(&mut self, a: &TraceEvent) {
+        self.first
+            .get_or_insert(DivergenceKind::ExtraEvent { a: *a });
+    }
+
+    /// Compares `a` (the pairs and single events fed so far) with the
+    /// pixels' outcomes, `a` on side A and `b` on side B.
+    pub fn finish(self, a: PixelOutcome, b: PixelOutcome) -> PixelVerdict {
+        let rgb_differs = rgb_differs(a.rgb, b.rgb, self.tolerance);
+        let cycles_differ = a.cycles != b.cycles;
+        let first = self
+            .first
+            .or(rgb_differs.then_some(DivergenceKind::Rgb))
+            .or(cycles_differ.then_some(DivergenceKind::Cycles));
+        PixelVerdict {
+            x: self.x,
+            y: self.y,
+            a,
+            b,
+            compared: self.compared,
+            mismatches: self.mismatches,
+            ulps: self.ulps,
+            rgb_differs,
+            cycles_differ,
+            first: first.map(|kind| Divergence {
+                x: self.x,
+                y: self.y,
+                kind,
+                a,
+                b,
+            }),
+        }
+    }
+}
+
+/// Compares a pixel whose A events are all at hand with B events that come
+/// one by one: `run_b` gets a sink to call with each B event (and the
+/// source line that issued it) and returns B's outcome.
+pub fn compare_pixel(
+    x: u32,
+    y: u32,
+    tolerance: Tolerance,
+    a_events: &[TraceEvent],
+    a: PixelOutcome,
+    run_b: impl FnOnce(&mut dyn FnMut(&TraceEvent, Option<SourceLine>)) -> PixelOutcome,
+) -> PixelVerdict {
+    let mut cmp = PixelCompare::new(x, y, tolerance);
+    let mut a_iter = a_events.iter();
+    let b = run_b(&mut |b, at| match a_iter.next() {
+        Some(a) => cmp.pair(a, b, at),
+        None => cmp.only_b(b, at),
+    });
+    for a in a_iter {
+        cmp.only_a(a);
+    }
+    cmp.finish(a, b)
+}
+
+/// How one pixel compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelVerdict {
+    pub x: u32,
+    pub y: u32,
+    pub a: PixelOutcome,
+    pub b: PixelOutcome,
+    /// Event pairs compared.
+    pub compared: u64,
+    /// Compared pairs that differ.
+    pub mismatches: u64,
+    /// The distances of the lanes both sides wrote.
+    pub ulps: UlpHistogram,
+    pub rgb_differs: bool,
+    pub cycles_differ: bool,
+    /// What diverged first, if anything did.
+    pub first: Option<Divergence>,
+}
+
+impl PixelVerdict {
+    pub fn diverged(&self) -> bool {
+        self.first.is_some()
+    }
+}
+
+/// Declares the report's counters once: the struct and its exact merge.
+macro_rules! counters {
+    ($(#[$meta:meta])* pub struct $name:ident { $($(#[doc = $doc:literal])* $field:ident,)* }) => {
+        $(#[$meta])*
+        pub struct $name { $($(#[doc = $doc])* pub $field: u64,)* }
+
+        impl std::ops::AddAssign for $name {
+            fn add_assign(&mut self, other: $name) {
+                $(self.$field += other.$field;)*
+            }
+        }
+    };
+}
+
+counters! {
+    /// What a comparison counted; adds exactly.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct Counts {
+        /// Pixels compared.
+        pixels,
+        /// Event pairs compared (per pixel, the events both sides wrote).
+        events_compared,
+        /// Compared pairs that differ.
+        event_mismatches,
+        /// Events side A wrote.
+        a_events,
+        /// Events side B wrote.
+        b_events,
+        /// Pixels whose sides wrote different numbers of events.
+        event_count_mismatches,
+        /// Cycles side A took.
+        a_cycles,
+        /// Cycles side B took.
+        b_cycles,
+        /// Pixels whose cycle counts differ.
+        cycle_mismatches,
+        /// Pixels whose final colours differ.
+        rgb_mismatches,
+        /// Pixels with any divergence (events, counts, colour, cycles).
+        divergent_pixels,
+    }
+}
+
+impl Counts {
+    /// The counts of one pixel.
+    pub fn of(v: &PixelVerdict) -> Counts {
+        Counts {
+            pixels: 1,
+            events_compared: v.compared,
+            event_mismatches: v.mismatches,
+            a_events: v.a.events,
+            b_events: v.b.events,
+            event_count_mismatches: u64::from(v.a.events != v.b.events),
+            a_cycles: v.a.cycles,
+            b_cycles: v.b.cycles,
+            cycle_mismatches: u64::from(v.cycles_differ),
+            rgb_mismatches: u64::from(v.rgb_differs),
+            divergent_pixels: u64::from(v.diverged()),
+        }
+    }
+}
+
+/// What a comparison of many pixels found.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CompareReport {
+    pub labels: Labels,
+    pub counts: Counts,
+    /// Distances of every lane both sides wrote.
+    pub ulps: UlpHistogram,
+    /// The first divergent pixel in row order, and what diverged first.
+    pub first_divergence: Option<Divergence>,
+}
+
+impl CompareReport {
+    pub fn new(labels: Labels) -> CompareReport {
+        CompareReport {
+            labels,
+            counts: Counts::default(),
+            ulps: UlpHistogram::default(),
+            first_divergence: None,
+        }
+    }
+
+    /// Adds one pixel's verdict.
+    pub fn add(&mut self, v: &PixelVerdict) {
+        self.counts += Counts::of(v);
+        self.ulps.merge(&v.ulps);
+        self.keep_first(v.first);
+    }
+
+    /// Adds `other` in (the same labels); the result does not depend on
+    /// the order of merges.
+    pub fn merge(&mut self, other: CompareReport) {
+        self.counts += other.counts;
+        self.ulps.merge(&other.ulps);
+        self.keep_first(other.first_divergence);
+    }
+
+    fn keep_first(&mut self, d: Option<Divergence>) {
+        if let Some(d) = d {
+            if self.first_divergence.map_or(true, |f| d.precedes(&f)) {
+                self.first_divergence = Some(d);
+            }
+        }
+    }
+
+    /// True when pixels ran, events were compared, and nothing diverged.
+    pub fn passed(&self) -> bool {
+        self.counts.pixels > 0
+            && self.counts.events_compared > 0
+            && self.counts.divergent_pixels == 0
+    }
+}
+
+#[cfg(test)]
+mod tests;

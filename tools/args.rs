@@ -1,0 +1,144 @@
+//! Argument groups that several commands share, declared once and
+//! flattened into each command (`#[command(flatten)]`), and their parsers.
+
+use anyhow::{Context, Result};
+use clap::ValueEnum;
+use golden::fp::Method;
+use golden::scene::{Scene, MAX_IMAGE_SIDE};
+use golden::window::Window;
+use rtcosim::pixel_proc::{parse_number, Fault};
+use rtcosim::scenes::{self, Overrides};
+use std::path::Path;
+
+/// The scene and what a command line may change in it.
+#[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
+pub struct SceneArgs {
+    /// A scene file (TOML), or the name of a builtin scene: reference,
+    /// mirror, grazing, light_touch, parallel_plane, box_room.
+    #[arg(long, default_value = "reference")]
+    pub scene: String,
+    /// Image size WxH instead of the scene's; the image-plane distance
+    /// scales with the width, so the horizontal field of view is kept.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<Size>,
+    /// The reciprocal unit's method, overriding the scene's (in `cosim`,
+    /// this picks the RTL variant verilated with it; golden follows).
+    #[arg(long, value_enum)]
+    pub recip: Option<MethodArg>,
+    /// The square-root unit's method, overriding the scene's.
+    #[arg(long, value_enum)]
+    pub sqrt: Option<MethodArg>,
+}
+
+impl SceneArgs {
+    /// The scene with the overrides applied.
+    pub fn load(&self) -> Result<Scene> {
+        let overrides = Overrides {
+            size: self.size.map(|s| (s.width, s.height)),
+            recip: self.recip.map(Method::from),
+            sqrt: self.sqrt.map(Method::from),
+        };
+        Ok(scenes::load_with(&self.scene, overrides)?)
+    }
+}
+
+/// Worker threads.
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ThreadsArgs {
+    /// Worker threads, one verilated model each where a model runs
+    /// (default: all cores). Results do not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
+}
+
+impl ThreadsArgs {
+    /// A rayon pool of that many workers (default: one per core).
+    pub fn pool(&self) -> Result<rayon::ThreadPool> {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(threads) = self.threads {
+            builder = builder.num_threads(usize::from(threads));
+        }
+        builder.build().context("starting the worker threads")
+    }
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodArg {
+    /// Correctly rounded.
+    Exact,
+    /// At most 1 ULP from correctly rounded, one cycle faster.
+    Fast,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Method {
+        match m {
+            MethodArg::Exact => Method::Exact,
+            MethodArg::Fast => Method::Fast,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+pub fn parse_size(s: &str) -> Result<Size, String> {
+    let bad =
+        || format!("expected WIDTHxHEIGHT, each 1..={MAX_IMAGE_SIDE}, e.g. 800x600; got {s:?}");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_IMAGE_SIDE).contains(n))
+            .ok_or_else(bad)
+    };
+    Ok(Size {
+        width: side(w)?,
+        height: side(h)?,
+    })
+}
+
+/// `X0,Y0,X1,Y1` or `X,Y` ([`Window`]'s own syntax).
+pub fn parse_window(s: &str) -> Result<Window, String> {
+    s.parse()
+        .map_err(|e: golden::window::WindowError| e.to_string())
+}
+
+/// `STATE:XOR` ([`Fault`]'s own syntax).
+pub fn parse_fault(s: &str) -> Result<Fault, String> {
+    s.parse()
+}
+
+/// A number of cycles, at least 1, in decimal or hex.
+pub fn parse_cycles(s: &str) -> Result<u64, String> {
+    parse_number(s)
+        .filter(|&n| n >= 1)
+        .ok_or_else(|| format!("expected a number of cycles, at least 1; got {s:?}"))
+}
+
+/// Fails unless `window` lies inside the scene's image; `flag` names the
+/// option in the message.
+pub fn check_window(flag: &str, window: Window, scene: &Scene) -> Result<()> {
+    window
+        .check_inside(scene.camera.width, scene.camera.height)
+        .map_err(|e| anyhow::anyhow!("{flag} {e}"))
+}
+
+/// Fails unless the directory `path` would be written into exists (before
+/// a long run, not after it).
+pub fn check_parent_dir(flag: &str, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            anyhow::bail!(
+                "{flag} {}: no such directory {}",
+                path.display(),
+                dir.display()
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! `rtcosim cosim`: the verilated pixel processor against golden::micro.
+
+use crate::args::{check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs};
+use crate::ui::{plural, progress_bar};
+use anyhow::Result;
+use golden::micro::isa::state_label;
+use golden::window::Window;
+use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
+use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use std::io::Write;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct CosimArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The pixels to co-simulate: columns X0..=X1 and rows Y0..=Y1
+    /// (inclusive, row 0 at the top), or X,Y for one pixel (default: the
+    /// whole image).
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window)]
+    pub window: Option<Window>,
+    #[command(flatten)]
+    pub threads: ThreadsArgs,
+    /// Cycles a pixel may take before the RTL counts as hung: the run stops
+    /// with an error naming the pixel and the last state.
+    #[arg(
+        long,
+        value_name = "CYCLES",
+        default_value_t = DEFAULT_TIMEOUT_CYCLES,
+        value_parser = parse_cycles
+    )]
+    pub timeout_cycles: u64,
+    /// Self-test of the harness, not a check of the RTL: inject a bit flip
+    /// into the RTL's writes in state STATE, so the run must fail (exit 1).
+    ///
+    /// XOR is XORed into lane x of every register-file write the RTL makes
+    /// in controller state STATE (the golden model is left alone), so the
+    /// first such write must be reported as the first divergence. STATE is
+    /// a state of rtl/pp/isa.vh by name (e.g. PRI_HALF) or number; XOR is
+    /// hex (0x400) or decimal, nonzero. A state that writes no register in
+    /// the window leaves the run passing, with a warning.
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
+    pub fault: Option<Fault>,
+}
+
+/// Returns whether the RTL agreed with golden everywhere.
+pub fn run(args: CosimArgs) -> Result<bool> {
+    let scene = args.scene.load()?;
+    let window = args.window.unwrap_or(Window::full(&scene));
+    check_window("--window", window, &scene)?;
+    let pool = args.threads.pool()?;
+    let threads = pool.current_num_threads();
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, hash {:016x}), window {window} \
+         ({} pixel{}), recip {}, sqrt {}, {threads} thread{}, {}",
+        args.scene.scene,
+        scene.render.max_depth,
+        scene.content_hash(),
+        window.pixels(),
+        plural(window.pixels()),
+        scene.render.recip,
+        scene.render.sqrt,
+        plural(threads as u64),
+        rtcosim::VERILATOR_VERSION
+    )?;
+    if let Some(fault) = args.fault {
+        writeln!(
+            out,
+            "self-test: lane x of every RTL register write in state {} is XORed with {:#010x}; \
+             the run must fail",
+            state_label(fault.state),
+            fault.xor
+        )?;
+    }
+    writeln!(out)?;
+    out.flush()?;
+    let options = CosimOptions {
+        fault: args.fault,
+        timeout_cycles: args.timeout_cycles,
+    };
+    let bar = progress_bar(
+        window.pixels(),
+        "co-simulating",
+        "{percent:>3}% {pos}/{len} pixels ({per_sec}, {eta})",
+    )?;
+    let start = Instant::now();
+    let result = pool.install(|| cosim::run(&scene, window, &options, &|n| bar.inc(n)));
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let report = result.map_err(|e| {
+        let hint = match &e {
+            CosimError::Rtl(PpError::Hung {
+                kind: HangKind::Timeout,
+                ..
+            }) => format!(
+                "; --timeout-cycles is {}: raise it if the pixel is only slow",
+                args.timeout_cycles
+            ),
+            _ => String::new(),
+        };
+        anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
+    })?;
+    print_report(&mut out, &report, seconds, threads)?;
+    Ok(report.passed())
+}
+
+/// The report, cycles per pixel, speed and the verdict.
+fn print_report(
+    out: &mut impl Write,
+    r: &CosimReport,
+    seconds: f64,
+    threads: usize,
+) -> std::io::Result<()> {
+    let c = &r.compare.counts;
+    writeln!(out, "{r}")?;
+    let per_pixel = |cycles: u64| cycles as f64 / c.pixels.max(1) as f64;
+    writeln!(
+        out,
+        "cycles/pixel: mean {:.1} RTL, {:.1} golden",
+        per_pixel(c.a_cycles),
+        per_pixel(c.b_cycles)
+    )?;
+    writeln!(
+        out,
+        "{} pixel{} in {seconds:.2} s: {:.0} pixels/s, {:.2} M RTL cycles/s ({threads} thread{})",
+        c.pixels,
+        plural(c.pixels),
+        c.pixels as f64 / seconds.max(1e-9),
+        c.a_cycles as f64 / seconds.max(1e-9) / 1e6,
+        plural(threads as u64)
+    )?;
+    writeln!(out)?;
+    if r.passed() {
+        writeln!(
+            out,
+            "PASS: the RTL agrees with golden::micro on every pixel: events, colour and cycles"
+        )?;
+        if let Some(fault) = r.fault {
+            writeln!(
+                out,
+                "warning: the injected fault went unnoticed: no register write in state {} \
+                 in this window, or the harness does not see the fault port",
+                state_label(fault.state)
+            )?;
+        }
+    } else if c.divergent_pixels > 0 {
+        writeln!(
+            out,
+            "FAIL: {} of {} pixels diverge from golden::micro",
+            c.divergent_pixels, c.pixels
+        )?;
+    } else {
+        writeln!(out, "FAIL: no events were compared")?;
+    }
+    Ok(())
+}
