@@ -1,7 +1,7 @@
 //! Co-simulation of every float unit in rtl/fp against golden::fp.
 //!
 //! A pass means the verilated RTL produced, operand by operand, the same bits
-//! as the golden model (every NaN matching every NaN), in exactly the number
+//! as the golden model (NaNs too: both give the canonical NaN), in exactly the number
 //! of cycles the golden model promises. The `checker_*` tests prove the
 //! comparison can fail.
 
@@ -116,19 +116,26 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         let y = eval_one(kind, a, b)?;
         assert_eq!(y, want, "{kind}({a:#010x}, {b:#010x})");
     }
-    // NaN cases: any NaN is acceptable where IEEE gives NaN.
+    // NaN cases: where IEEE gives NaN, every unit gives the one canonical
+    // NaN, 0x7FC00000, whatever the operands' signs and payloads.
     let nans: &[(UnitKind, u32, u32)] = &[
         (UnitKind::Add, 0x7F80_0000, 0xFF80_0000), // inf - inf
+        (UnitKind::Add, 0xFFC0_1234, 0x3F80_0000), // negative NaN with a payload in
         (UnitKind::Mul, 0x0000_0000, 0x7F80_0000), // 0 * inf
+        (UnitKind::Mul, 0xFF80_0001, 0xBF80_0000), // negative signalling NaN in
         (UnitKind::Sqrt(Method::Exact), 0xBF80_0000, 0), // sqrt(-1)
+        (UnitKind::Sqrt(Method::Fast), 0xFF80_0000, 0), // sqrt(-inf)
         (UnitKind::Recip(Method::Fast), 0x7FC0_0001, 0), // NaN in
+        (UnitKind::Recip(Method::Exact), 0xFFFF_FFFF, 0), // NaN in
     ];
     for &(kind, a, b) in nans {
         let y = eval_one(kind, a, b)?;
-        assert!(
-            f32::from_bits(y).is_nan(),
+        assert_eq!(
+            y,
+            golden::fp::CANONICAL_NAN,
             "{kind}({a:#010x}, {b:#010x}) = {y:#010x}"
         );
+        assert_eq!(kind.golden(a, b), y, "the golden model agrees on the bits");
     }
     Ok(())
 }
@@ -163,6 +170,34 @@ fn checker_reports_every_operand_a_faulty_golden_model_gets_wrong() -> Result<()
     assert_eq!(first.a & 1, 1);
     assert_eq!(first.rtl ^ first.golden, 1);
     assert_eq!(first.distance, UlpDistance::Ulps(1));
+    Ok(())
+}
+
+/// The checker compares NaN bits: a golden model that returned the host's
+/// own NaN (0xFFC00000 for inf - inf on x86, payloads passed through) is
+/// caught on exactly the operands where its NaN is not the canonical one.
+#[test]
+fn checker_catches_a_golden_model_with_the_hosts_nan() -> Result<(), UnitError> {
+    let host = |a: u32, b: u32| {
+        let y = std::hint::black_box(f32::from_bits(a)) + std::hint::black_box(f32::from_bits(b));
+        y.to_bits()
+    };
+    let (a, b) = operands::edge_cases(UnitKind::Add);
+    let expected = a
+        .iter()
+        .zip(&b)
+        .filter(|&(&x, &y)| {
+            let h = host(x, y);
+            f32::from_bits(h).is_nan() && h != golden::fp::CANONICAL_NAN
+        })
+        .count() as u64;
+    assert!(
+        expected > 100,
+        "the edge cases make many host NaNs: {expected}"
+    );
+    let mut unit = FpUnit::new(UnitKind::Add)?;
+    let report = check_batch(&mut unit, &host, &a, &b)?;
+    assert_eq!(report.mismatches, expected);
     Ok(())
 }
 

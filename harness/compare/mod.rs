@@ -13,7 +13,10 @@
 //! The two sides are called A and B; [`Labels`] names them for people ("RTL"
 //! and "golden" in a co-simulation). Two events agree when they have the
 //! same state, destination and lane mask and every written lane is within
-//! the [`Tolerance`] (0 ULP by default; NaN equals NaN, +0 and -0 differ).
+//! the [`Tolerance`]: by default the same bits (so +0 and -0 differ, and a
+//! NaN matches only the same NaN: every unit makes the canonical one, see
+//! [`golden::fp`]); with `max_ulps` > 0, numbers that many ULPs apart agree,
+//! NaNs still only bit for bit.
 
 mod text;
 
@@ -49,9 +52,18 @@ impl Labels {
 /// How far apart two written lanes may be and still agree.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Tolerance {
-    /// Largest ULP distance that counts as agreement (0: bit for bit, but
-    /// every NaN equals every NaN).
+    /// Largest ULP distance between two numbers that counts as agreement
+    /// (0: bit for bit). A NaN agrees only with the same bits.
     pub max_ulps: u32,
+}
+
+impl Tolerance {
+    /// Whether two values (raw f32 bits) agree.
+    pub fn agrees(self, a: u32, b: u32) -> bool {
+        let (fa, fb) = (f32::from_bits(a), f32::from_bits(b));
+        a == b
+            || (!fa.is_nan() && !fb.is_nan() && ulp_distance(fa, fb, false).within(self.max_ulps))
+    }
 }
 
 /// ULP distance of lane `i` between two events, when both wrote it.
@@ -72,14 +84,12 @@ pub fn events_differ(a: &TraceEvent, b: &TraceEvent, tolerance: Tolerance) -> bo
     a.state != b.state
         || a.dst != b.dst
         || a.lanes != b.lanes
-        || (0..3).any(|i| lane_distance(a, b, i).is_some_and(|d| !d.within(tolerance.max_ulps)))
+        || (0..3).any(|i| a.lanes >> i & 1 == 1 && !tolerance.agrees(a.values[i], b.values[i]))
 }
 
 /// Whether two colours differ beyond `tolerance`.
 fn rgb_differs(a: [u32; 3], b: [u32; 3], tolerance: Tolerance) -> bool {
-    (0..3).any(|i| {
-        !ulp_distance(f32::from_bits(a[i]), f32::from_bits(b[i]), false).within(tolerance.max_ulps)
-    })
+    (0..3).any(|i| !tolerance.agrees(a[i], b[i]))
 }
 
 /// Counts of how many lanes were how far apart: bucket 0 holds exact

@@ -203,3 +203,35 @@ fn a_divergence_reads_with_the_sides_names() {
         "no source line without a live model: {text}"
     );
 }
+
+/// One NaN rule: NaN lanes agree only bit for bit (the canonical NaN
+/// against a sign-flipped or payload NaN is a divergence), whatever the
+/// tolerance; signed zeros differ.
+#[test]
+fn nan_lanes_agree_only_bit_for_bit() {
+    let canonical = 0x7FC0_0000;
+    let b = ev(0, 0, 0, 11, [canonical, 0, 1]);
+    for (other, tol) in [
+        (0xFFC0_0000, 0),
+        (0x7FC0_0001, 0),
+        (0xFFC0_0000, 5),
+        (0x3F80_0000, u32::MAX),
+    ] {
+        let a = TraceEvent {
+            values: [other, 0, 1],
+            ..b
+        };
+        assert!(
+            events_differ(&a, &b, Tolerance { max_ulps: tol }),
+            "{other:#x} vs canonical NaN at {tol} ulp"
+        );
+    }
+    assert!(!events_differ(&b, &b, Tolerance::default()));
+    let zero = ev(0, 0, 0, 11, [0, 0, 0]);
+    let neg_zero = TraceEvent {
+        values: [0x8000_0000, 0, 0],
+        ..zero
+    };
+    assert!(events_differ(&zero, &neg_zero, Tolerance::default()));
+    assert!(!events_differ(&zero, &neg_zero, Tolerance { max_ulps: 1 }));
+}

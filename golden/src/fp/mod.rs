@@ -7,9 +7,19 @@
 //! register, so that their results (including where they are off by one ULP)
 //! are reproduced bit for bit.
 //!
-//! NaN results of the RTL are always the canonical quiet NaN
-//! [`CANONICAL_NAN`]; compare floats with [`ulp::UlpDistance`], which treats
-//! every NaN as equal to every other NaN.
+//! # One NaN rule
+//!
+//! Every float unit, RTL and model alike, returns the canonical quiet NaN
+//! [`CANONICAL_NAN`] (`0x7FC00000`, as RISC-V does) for every operation whose
+//! IEEE result is NaN: an invalid operation or a NaN operand, whatever its
+//! payload or sign. The host's own NaN differs (x86 makes `0xFFC00000` for
+//! `inf - inf`, and propagates payloads), so the models built on native
+//! operations canonicalize ([`canonical`]). A sign flip *after* a unit (the
+//! ALU's negated product, `NEG`) flips the NaN's sign too, in both. So the
+//! RTL and the models agree on NaN bits, sign included, and on every flag
+//! read from them; the co-simulation compares NaN lanes bit for bit.
+//! [`ulp::UlpDistance`] treats every NaN as equal to every other NaN: it is
+//! for accuracy against the f64 reference, not for bit-exactness.
 
 mod recip;
 mod round;
@@ -67,16 +77,28 @@ impl std::fmt::Display for Method {
     }
 }
 
-/// `fp_add`: correctly rounded, so the model is the native operation.
+/// `x`, or [`CANONICAL_NAN`] if `x` is any NaN.
 #[inline]
-pub fn add(a: f32, b: f32) -> f32 {
-    a + b
+pub fn canonical(x: f32) -> f32 {
+    if x.is_nan() {
+        f32::from_bits(CANONICAL_NAN)
+    } else {
+        x
+    }
 }
 
-/// `fp_mul`: correctly rounded, so the model is the native operation.
+/// `fp_add`: correctly rounded, so the model is the native operation (NaN
+/// canonical).
+#[inline]
+pub fn add(a: f32, b: f32) -> f32 {
+    canonical(a + b)
+}
+
+/// `fp_mul`: correctly rounded, so the model is the native operation (NaN
+/// canonical).
 #[inline]
 pub fn mul(a: f32, b: f32) -> f32 {
-    a * b
+    canonical(a * b)
 }
 
 /// `fp_itof`: signed 32-bit integer to float, round to nearest even.
@@ -89,7 +111,7 @@ pub fn itof(a: i32) -> f32 {
 #[inline]
 pub fn recip(a: f32, method: Method) -> f32 {
     match method {
-        Method::Exact => 1.0 / a,
+        Method::Exact => canonical(1.0 / a),
         Method::Fast => f32::from_bits(recip::recip_bits(a.to_bits(), Method::Fast)),
     }
 }
@@ -98,7 +120,7 @@ pub fn recip(a: f32, method: Method) -> f32 {
 #[inline]
 pub fn sqrt(a: f32, method: Method) -> f32 {
     match method {
-        Method::Exact => a.sqrt(),
+        Method::Exact => canonical(a.sqrt()),
         Method::Fast => f32::from_bits(sqrt::sqrt_bits(a.to_bits(), Method::Fast)),
     }
 }
@@ -131,5 +153,48 @@ pub const fn sqrt_latency(method: Method) -> u32 {
     match method {
         Method::Exact => 7,
         Method::Fast => 6,
+    }
+}
+
+#[cfg(test)]
+mod nan_tests {
+    use super::*;
+
+    /// Every way to a NaN gives the one canonical NaN, sign bit clear,
+    /// whatever the operands' payloads and signs.
+    #[test]
+    fn every_nan_result_is_the_canonical_nan() {
+        let inf = f32::INFINITY;
+        let payload = f32::from_bits(0xFFC0_1234);
+        let cases = [
+            add(inf, -inf),
+            add(-inf, inf),
+            add(payload, 1.0),
+            add(1.0, f32::from_bits(0x7F80_0001)),
+            mul(0.0, inf),
+            mul(-inf, -0.0),
+            mul(payload, payload),
+            recip(payload, Method::Exact),
+            recip(payload, Method::Fast),
+            sqrt(-1.0, Method::Exact),
+            sqrt(-1.0, Method::Fast),
+            sqrt(-inf, Method::Exact),
+            sqrt(payload, Method::Exact),
+        ];
+        for (i, y) in cases.iter().enumerate() {
+            assert_eq!(
+                y.to_bits(),
+                CANONICAL_NAN,
+                "case {i}: {:#010x}",
+                y.to_bits()
+            );
+        }
+        // The host itself does not make it: that is why the models canonicalize.
+        let host = std::hint::black_box(inf) - std::hint::black_box(inf);
+        assert!(host.is_nan());
+        // Numbers pass through untouched.
+        assert_eq!(add(1.5, -0.5), 1.0);
+        assert_eq!(mul(-0.0, 3.0).to_bits(), 0x8000_0000);
+        assert_eq!(canonical(-0.0).to_bits(), 0x8000_0000);
     }
 }
