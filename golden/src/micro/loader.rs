@@ -11,7 +11,9 @@
 use super::alu::{RegisterImage, Vec3};
 use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
-use crate::scene::{Material, Scene, Speedups, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{
+    round_down, round_up, Material, Scene, Speedups, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
+};
 
 // The configuration word's fields (rtl/pp/isa.vh) fit in its 96 bits and
 // do not overlap; the coordinate ports hold every pixel of the largest image.
@@ -229,23 +231,9 @@ pub fn bounding_box(scene: &Scene) -> (Vec3, Vec3) {
         .fold(0.0, f64::max);
     let margin = side / BOX_MARGIN_DIVISOR;
     (
-        [0, 1, 2].map(|i| toward_neg_inf(f64::from(d.bbox_min[i]) - margin)),
-        [0, 1, 2].map(|i| -toward_neg_inf(-(f64::from(d.bbox_max[i]) + margin))),
+        [0, 1, 2].map(|i| round_down(f64::from(d.bbox_min[i]) - margin)),
+        [0, 1, 2].map(|i| round_up(f64::from(d.bbox_max[i]) + margin)),
     )
-}
-
-/// The largest f32 <= x (x finite, within the f32 range).
-fn toward_neg_inf(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) <= x {
-        y
-    } else if y == 0.0 {
-        -f32::from_bits(1)
-    } else if y > 0.0 {
-        f32::from_bits(y.to_bits() - 1)
-    } else {
-        f32::from_bits(y.to_bits() + 1)
-    }
 }
 
 /// The register file after the scene port's writes.
