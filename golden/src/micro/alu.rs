@@ -18,11 +18,9 @@
 use super::isa::{self, op, reg, REGISTER_COUNT};
 use super::stats::{OpClass, OpStats};
 use crate::fp::{self, Method};
+use crate::scene::Vec3f;
 use crate::trace::TraceEvent;
 use std::panic::Location;
-
-/// Three f32 lanes x, y, z.
-pub type Vec3 = [f32; 3];
 
 /// Lane masks: bit 0 = x, bit 1 = y, bit 2 = z.
 pub mod lanes {
@@ -39,7 +37,7 @@ use lanes::{X, XYZ, Y, Z};
 /// panics.
 #[derive(Debug, Clone, Copy)]
 pub struct Written {
-    value: Vec3,
+    value: Vec3f,
     mask: u8,
 }
 
@@ -75,7 +73,7 @@ impl Written {
     }
 
     /// The written lanes, for tests and diagnostics.
-    pub fn value(&self) -> Vec3 {
+    pub fn value(&self) -> Vec3f {
         self.value
     }
 }
@@ -118,7 +116,7 @@ impl LoadedImage {
 /// The core executing one pixel's program.
 pub struct Core<T> {
     regs: LoadedImage,
-    f: Vec3,
+    f: Vec3f,
     f_valid: bool,
     /// The stack pointer: the level `CUR_*` addresses.
     pub sp: usize,
@@ -135,7 +133,7 @@ pub struct Core<T> {
 /// `[f(0), f(1), f(2)]`, spelled out (`array::map` is not always inlined,
 /// and this is the inner loop).
 #[inline(always)]
-fn lanes3(mut f: impl FnMut(usize) -> f32) -> Vec3 {
+fn lanes3(mut f: impl FnMut(usize) -> f32) -> Vec3f {
     [f(0), f(1), f(2)]
 }
 
@@ -194,7 +192,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn read(&self, code: u8, need: u8, at: &Location<'_>) -> Vec3 {
+    fn read(&self, code: u8, need: u8, at: &Location<'_>) -> Vec3f {
         let a = self.decode(code, at) as usize;
         let valid = self.regs.valid[a];
         if valid & need != need {
@@ -221,7 +219,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         code: u8,
         dst: u8,
         mask: u8,
-        y: Vec3,
+        y: Vec3f,
         at: &'static Location<'static>,
     ) -> Written {
         self.count(code);
@@ -230,7 +228,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3, at: &'static Location<'static>) {
+    fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3f, at: &'static Location<'static>) {
         let a = self.decode(code, at);
         if is_scene(a) {
             scene_write(a, at);
@@ -261,7 +259,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn f(&self, at: &Location<'_>) -> Vec3 {
+    fn f(&self, at: &Location<'_>) -> Vec3f {
         if !self.f_valid {
             unwritten_f(at);
         }
@@ -684,7 +682,7 @@ mod tests {
     use super::*;
     use crate::micro::isa::state;
 
-    fn image(regs: &[(u8, Vec3)]) -> RegisterImage {
+    fn image(regs: &[(u8, Vec3f)]) -> RegisterImage {
         let mut img = RegisterImage {
             bits: [[0; 3]; REGISTER_COUNT],
             valid: [0; REGISTER_COUNT],

@@ -8,11 +8,11 @@
 //! sign-flipped (exact), except the bounding box, which is widened here
 //! (see [`bounding_box`]). The RTL harness loads these very bits.
 
-use super::alu::{RegisterImage, Vec3};
+use super::alu::RegisterImage;
 use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
 use crate::scene::{
-    round_down, round_up, Material, Scene, Speedups, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
+    round_down, round_up, Material, Scene, Speedups, Vec3f, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
 };
 
 // The configuration word's fields (rtl/pp/isa.vh) fit in its 96 bits and
@@ -147,7 +147,7 @@ impl Config {
 /// f32 bits). Unused sphere and plane slots are not written.
 pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
     let d = &scene.derived;
-    let mut w: Vec<(u8, Vec3)> = Vec::new();
+    let mut w: Vec<(u8, Vec3f)> = Vec::new();
     for (k, s) in scene.spheres.iter().enumerate() {
         let m = &s.material;
         w.push((isa::sphere(k, SphereField::C), s.center));
@@ -221,7 +221,7 @@ pub const BOX_MARGIN_DIVISOR: f64 = 256.0;
 /// accept a ray passing up to ~4 * 2^-23 * |o| outside the sphere, which the
 /// exact box would refuse. The margin (1.95 units in the reference scene)
 /// covers origins up to ~4e6 units away; it costs a few more box hits.
-pub fn bounding_box(scene: &Scene) -> (Vec3, Vec3) {
+pub fn bounding_box(scene: &Scene) -> (Vec3f, Vec3f) {
     let d = &scene.derived;
     if scene.spheres.is_empty() {
         return (d.bbox_min, d.bbox_max);

@@ -49,7 +49,6 @@ pub mod loader;
 pub mod program;
 pub mod stats;
 
-pub use program::Object;
 pub use stats::{OpClass, OpStats};
 
 use crate::frame::Frame;

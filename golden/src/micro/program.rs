@@ -19,10 +19,10 @@
 //! ray does not push, the stack unwinds, adding each ray's colour into its
 //! parent's. Only reflection rays exist, so the ray tree is a list.
 
-use super::alu::{lanes, Core, Vec3, Written, LANE};
+use super::alu::{lanes, Core, Written, LANE};
 use super::isa::{self, reg, state as st, PlaneField, SphereField};
 use super::loader::{Config, MaterialBits};
-use crate::scene::MAX_DEPTH;
+use crate::scene::{Object, Vec3f, MAX_DEPTH};
 use crate::trace::TraceEvent;
 use std::panic::Location;
 
@@ -55,13 +55,6 @@ mod t {
     pub const S: u8 = reg::T9;
     pub const Q: u8 = reg::T10;
     pub const U: u8 = reg::T11;
-}
-
-/// What a ray can hit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Object {
-    Sphere(usize),
-    Plane(usize),
 }
 
 /// The flags of the last ray direction written (NORM_SCALE, SH_REFL),
@@ -591,6 +584,6 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 }
 
 /// The colour as f32 lanes.
-pub fn rgb_of(bits: [u32; 3]) -> Vec3 {
+pub fn rgb_of(bits: [u32; 3]) -> Vec3f {
     bits.map(f32::from_bits)
 }
