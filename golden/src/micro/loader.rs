@@ -8,7 +8,7 @@
 //! sign-flipped (exact), except the bounding box, which is widened here
 //! (see [`bounding_box`]). The RTL harness loads these very bits.
 
-use super::alu::RegisterImage;
+use super::core::RegisterImage;
 use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
 use crate::scene::{

@@ -19,7 +19,7 @@
 //! ray does not push, the stack unwinds, adding each ray's colour into its
 //! parent's. Only reflection rays exist, so the ray tree is a list.
 
-use super::alu::{lanes, Core, Written, LANE};
+use super::core::{lanes, Core, Written, LANE};
 use super::isa::{self, reg, state as st, PlaneField, SphereField};
 use super::loader::{Config, MaterialBits};
 use crate::scene::{Object, Vec3f, MAX_DEPTH};
