@@ -8,7 +8,7 @@
 //! and reports the register-file write as a [`TraceEvent`] together with
 //! the Rust source line that issued it (`#[track_caller]`).
 //! Writes to F are internal to the ALU: they are not register-file writes
-//! and emit no event (the RTL's debug port watches the memory's write port).
+//! and emit no event (the RTL's trace port watches the memory's write port).
 //!
 //! The model refuses (panics on) anything the RTL could not do or should not
 //! do: reading a register lane that was neither loaded with the scene nor
@@ -16,21 +16,12 @@
 //! address at stack level 0, and lane masks an instruction does not have.
 
 use super::alu::Alu;
-use super::isa::{self, op, reg, REGISTER_COUNT};
+use super::isa::{self, op, Lanes, Reg, State, REGISTER_COUNT};
 use super::stats::{OpClass, OpStats};
 use crate::fp::Method;
 use crate::scene::Vec3f;
 use crate::trace::TraceEvent;
 use std::panic::Location;
-
-/// Lane masks: bit 0 = x, bit 1 = y, bit 2 = z.
-pub mod lanes {
-    pub const X: u8 = 0b001;
-    pub const Y: u8 = 0b010;
-    pub const Z: u8 = 0b100;
-    pub const XYZ: u8 = 0b111;
-}
-use lanes::{X, XYZ, Y, Z};
 
 /// The value an instruction wrote, for the controller's branch flags
 /// (thesis 4.2: "combinational float-to-boolean" on the written value).
@@ -39,13 +30,13 @@ use lanes::{X, XYZ, Y, Z};
 #[derive(Debug, Clone, Copy)]
 pub struct Written {
     value: Vec3f,
-    mask: u8,
+    mask: Lanes,
 }
 
 impl Written {
     #[inline(always)]
     fn lane(&self, i: usize) -> f32 {
-        if self.mask >> i & 1 != 1 {
+        if !self.mask.has(i) {
             unwritten_flag(i, self.mask);
         }
         self.value[i]
@@ -66,7 +57,7 @@ impl Written {
     /// The sign bit of every lane, bit i = lane i (all three written).
     #[inline(always)]
     pub fn sign_bits(&self) -> u8 {
-        if self.mask != XYZ {
+        if self.mask != Lanes::XYZ {
             partly_written_signs(self.mask);
         }
         let sign = |i: usize| u8::from(self.value[i].is_sign_negative()) << i;
@@ -84,7 +75,7 @@ impl Written {
 #[derive(Debug, Clone)]
 pub struct RegisterImage {
     pub bits: [[u32; 3]; REGISTER_COUNT],
-    pub valid: [u8; REGISTER_COUNT],
+    pub valid: [Lanes; REGISTER_COUNT],
 }
 
 /// The register file as the core holds it: lane by lane (`lanes[i][a]` is
@@ -96,7 +87,7 @@ pub struct RegisterImage {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct LoadedImage {
     lanes: [[u32; REGISTER_COUNT]; 3],
-    valid: [u8; REGISTER_COUNT],
+    valid: [Lanes; REGISTER_COUNT],
 }
 
 impl LoadedImage {
@@ -130,8 +121,8 @@ pub struct Core<T> {
 
 /// Whether register address `a` belongs to the scene (read-only).
 #[inline(always)]
-fn is_scene(a: u8) -> bool {
-    a < reg::T0
+fn is_scene(a: Reg) -> bool {
+    a < Reg::T0
 }
 
 impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
@@ -172,7 +163,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
 
     /// The physical register `code` decodes to at the current sp.
     #[inline(always)]
-    fn decode(&self, code: u8, at: &Location<'_>) -> u8 {
+    fn decode(&self, code: Reg, at: &Location<'_>) -> Reg {
         match isa::decode(code, self.sp) {
             Some(a) => a,
             None => outside_the_stack(code, self.sp, at),
@@ -180,21 +171,21 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn read(&self, code: u8, need: u8, at: &Location<'_>) -> Vec3f {
-        let a = self.decode(code, at) as usize;
-        let valid = self.regs.valid[a];
-        if valid & need != need {
-            unwritten_read(code, a as u8, need, valid, at);
+    fn read(&self, code: Reg, need: Lanes, at: &Location<'_>) -> Vec3f {
+        let a = self.decode(code, at);
+        let valid = self.regs.valid[a.0 as usize];
+        if !valid.contains(need) {
+            unwritten_read(code, a, need, valid, at);
         }
-        let lane = |i: usize| f32::from_bits(self.regs.lanes[i][a]);
+        let lane = |i: usize| f32::from_bits(self.regs.lanes[i][a.0 as usize]);
         [lane(0), lane(1), lane(2)]
     }
 
     /// The bits of physical register `a` as they are now (for the result).
-    pub fn peek(&self, a: u8) -> Option<[u32; 3]> {
-        let a = a as usize;
+    pub fn peek(&self, a: Reg) -> Option<[u32; 3]> {
+        let a = a.0 as usize;
         let lane = |i: usize| self.regs.lanes[i][a];
-        (self.regs.valid[a] == XYZ).then(|| [lane(0), lane(1), lane(2)])
+        (self.regs.valid[a] == Lanes::XYZ).then(|| [lane(0), lane(1), lane(2)])
     }
 
     /// The end of every instruction that writes the register file: count
@@ -203,10 +194,10 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     #[inline(always)]
     fn retire(
         &mut self,
-        state: u16,
+        state: State,
         code: u8,
-        dst: u8,
-        mask: u8,
+        dst: Reg,
+        mask: Lanes,
         y: Vec3f,
         at: &'static Location<'static>,
     ) -> Written {
@@ -216,30 +207,37 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3f, at: &'static Location<'static>) {
+    fn write(
+        &mut self,
+        state: State,
+        code: Reg,
+        mask: Lanes,
+        y: Vec3f,
+        at: &'static Location<'static>,
+    ) {
         let a = self.decode(code, at);
         if is_scene(a) {
             scene_write(a, at);
         }
-        if mask == 0 || mask > XYZ {
+        if mask == Lanes::NONE || mask.0 > Lanes::XYZ.0 {
             bad_mask(mask, at);
         }
         let mut values = [0u32; 3];
         for (i, value) in values.iter_mut().enumerate() {
-            if mask >> i & 1 == 1 {
+            if mask.has(i) {
                 *value = y[i].to_bits();
-                self.regs.lanes[i][a as usize] = *value;
+                self.regs.lanes[i][a.0 as usize] = *value;
             }
         }
-        self.regs.valid[a as usize] |= mask;
+        self.regs.valid[a.0 as usize] |= mask;
         self.stats.register_writes += 1;
         let event = TraceEvent {
             x: self.px as u16,
             y: self.py as u16,
             seq: self.seq,
-            state,
-            dst: a,
-            lanes: mask,
+            state: state.0,
+            dst: a.0,
+            lanes: mask.0,
             values,
         };
         self.seq += 1;
@@ -257,16 +255,16 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     #[inline(always)]
     fn lanewise(
         &mut self,
-        state: u16,
+        state: State,
         code: u8,
-        [dst, a, b, mask]: [u8; 4],
+        (dst, a, b, mask): (Reg, Reg, Reg, Lanes),
         at: &'static Location<'static>,
     ) -> Written {
         let route = Alu::route(code);
-        let mut need_b = 0;
+        let mut need_b = Lanes::NONE;
         for (i, &r) in route.iter().enumerate() {
-            if mask >> i & 1 == 1 {
-                need_b |= 1 << r;
+            if mask.has(i) {
+                need_b |= Lanes::lane(r);
             }
         }
         let av = self.read(a, mask, at);
@@ -282,84 +280,84 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ADD: Y = A + B.
     #[track_caller]
     #[inline(always)]
-    pub fn add(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::ADD, [y, a, b, m], Location::caller())
+    pub fn add(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::ADD, (y, a, b, m), Location::caller())
     }
 
     /// SUB: Y = A - B.
     #[track_caller]
     #[inline(always)]
-    pub fn sub(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::SUB, [y, a, b, m], Location::caller())
+    pub fn sub(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::SUB, (y, a, b, m), Location::caller())
     }
 
     /// MUL: Y = A * B, componentwise.
     #[track_caller]
     #[inline(always)]
-    pub fn mul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MUL, [y, a, b, m], Location::caller())
+    pub fn mul(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MUL, (y, a, b, m), Location::caller())
     }
 
     /// NMUL: Y = -(A * B).
     #[track_caller]
     #[inline(always)]
-    pub fn nmul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::NMUL, [y, a, b, m], Location::caller())
+    pub fn nmul(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::NMUL, (y, a, b, m), Location::caller())
     }
 
     /// MULX: Y = A * <B.x, B.x, B.x>.
     #[track_caller]
     #[inline(always)]
-    pub fn mulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULX, [y, a, b, m], Location::caller())
+    pub fn mulx(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MULX, (y, a, b, m), Location::caller())
     }
 
     /// MULY: Y = A * <B.y, B.y, B.y>.
     #[track_caller]
     #[inline(always)]
-    pub fn muly(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULY, [y, a, b, m], Location::caller())
+    pub fn muly(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MULY, (y, a, b, m), Location::caller())
     }
 
     /// MULZ: Y = A * <B.z, B.z, B.z>.
     #[track_caller]
     #[inline(always)]
-    pub fn mulz(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULZ, [y, a, b, m], Location::caller())
+    pub fn mulz(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MULZ, (y, a, b, m), Location::caller())
     }
 
     /// NMULX: Y = -(A * <B.x, B.x, B.x>).
     #[track_caller]
     #[inline(always)]
-    pub fn nmulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::NMULX, [y, a, b, m], Location::caller())
+    pub fn nmulx(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::NMULX, (y, a, b, m), Location::caller())
     }
 
     /// MULR1: Y = A * <B.y, B.z, B.x>.
     #[track_caller]
     #[inline(always)]
-    pub fn mulr1(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULR1, [y, a, b, m], Location::caller())
+    pub fn mulr1(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MULR1, (y, a, b, m), Location::caller())
     }
 
     /// MUL2X: Y = p + p with p = A * <B.x, B.x, B.x> (doubling is exact).
     #[track_caller]
     #[inline(always)]
-    pub fn mul2x(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MUL2X, [y, a, b, m], Location::caller())
+    pub fn mul2x(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MUL2X, (y, a, b, m), Location::caller())
     }
 
     /// MULR2: Y = A * <B.z, B.x, B.y>.
     #[track_caller]
     #[inline(always)]
-    pub fn mulr2(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULR2, [y, a, b, m], Location::caller())
+    pub fn mulr2(&mut self, st: State, y: Reg, a: Reg, b: Reg, m: Lanes) -> Written {
+        self.lanewise(st, op::MULR2, (y, a, b, m), Location::caller())
     }
 
     /// MOV: Y = A.
     #[track_caller]
     #[inline(always)]
-    pub fn mov(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
+    pub fn mov(&mut self, st: State, y: Reg, a: Reg, m: Lanes) -> Written {
         let at = Location::caller();
         let v = self.read(a, m, at);
         self.retire(st, op::MOV, y, m, v, at)
@@ -368,7 +366,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// NEG: Y = -A (the sign bits flipped, exact).
     #[track_caller]
     #[inline(always)]
-    pub fn neg(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
+    pub fn neg(&mut self, st: State, y: Reg, a: Reg, m: Lanes) -> Written {
         let at = Location::caller();
         let v = Alu::neg(self.read(a, m, at));
         self.retire(st, op::NEG, y, m, v, at)
@@ -378,10 +376,10 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// coordinate registers (no register operand).
     #[track_caller]
     #[inline(always)]
-    pub fn itof(&mut self, st: u16, y: u8) -> Written {
+    pub fn itof(&mut self, st: State, y: Reg) -> Written {
         let at = Location::caller();
         let v = Alu::itof(self.px, self.py);
-        self.retire(st, op::ITOF, y, XYZ, v, at)
+        self.retire(st, op::ITOF, y, Lanes::XYZ, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -391,9 +389,9 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// DOT1: F = A * B.
     #[track_caller]
     #[inline(always)]
-    pub fn dot1(&mut self, _st: u16, a: u8, b: u8) {
+    pub fn dot1(&mut self, _st: State, a: Reg, b: Reg) {
         let at = Location::caller();
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
+        let (av, bv) = (self.read(a, Lanes::XYZ, at), self.read(b, Lanes::XYZ, at));
         self.alu.dot1(av, bv);
         self.count(op::DOT1);
     }
@@ -401,7 +399,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// DOT2: F.x = F.x + F.y.
     #[track_caller]
     #[inline(always)]
-    pub fn dot2(&mut self, _st: u16) {
+    pub fn dot2(&mut self, _st: State) {
         self.alu.dot2(Location::caller());
         self.count(op::DOT2);
     }
@@ -409,10 +407,10 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// DOT3: Y.x = F.x + F.z, i.e. `(a.x*b.x + a.y*b.y) + a.z*b.z`.
     #[track_caller]
     #[inline(always)]
-    pub fn dot3(&mut self, st: u16, y: u8) -> Written {
+    pub fn dot3(&mut self, st: State, y: Reg) -> Written {
         let at = Location::caller();
         let v = self.alu.dot3(at);
-        self.retire(st, op::DOT3, y, X, v, at)
+        self.retire(st, op::DOT3, y, Lanes::X, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -422,9 +420,9 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ISECT1: F = -(A * B) [A = b, B = c].
     #[track_caller]
     #[inline(always)]
-    pub fn isect1(&mut self, _st: u16, a: u8, b: u8) {
+    pub fn isect1(&mut self, _st: State, a: Reg, b: Reg) {
         let at = Location::caller();
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
+        let (av, bv) = (self.read(a, Lanes::XYZ, at), self.read(b, Lanes::XYZ, at));
         self.alu.isect1(av, bv);
         self.count(op::ISECT1);
     }
@@ -432,19 +430,19 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ISECT2: Y = A * B [A = d, B = c]; F = <F.x + F.y, F.y, F.z>.
     #[track_caller]
     #[inline(always)]
-    pub fn isect2(&mut self, st: u16, y: u8, a: u8, b: u8) -> Written {
+    pub fn isect2(&mut self, st: State, y: Reg, a: Reg, b: Reg) -> Written {
         let at = Location::caller();
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
+        let (av, bv) = (self.read(a, Lanes::XYZ, at), self.read(b, Lanes::XYZ, at));
         let g = self.alu.isect2(av, bv, at);
-        self.retire(st, op::ISECT2, y, XYZ, g, at)
+        self.retire(st, op::ISECT2, y, Lanes::XYZ, g, at)
     }
 
     /// ISECT3: F = <A.x + A.y, F.x + F.z, A.z> [A = g].
     #[track_caller]
     #[inline(always)]
-    pub fn isect3(&mut self, _st: u16, a: u8) {
+    pub fn isect3(&mut self, _st: State, a: Reg) {
         let at = Location::caller();
-        let g = self.read(a, XYZ, at);
+        let g = self.read(a, Lanes::XYZ, at);
         self.alu.isect3(g, at);
         self.count(op::ISECT3);
     }
@@ -452,11 +450,11 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ISECT4: Y = F = <A.x + F.y, F.x + F.z, 0> [A.x = a].
     #[track_caller]
     #[inline(always)]
-    pub fn isect4(&mut self, st: u16, y: u8, a: u8) -> Written {
+    pub fn isect4(&mut self, st: State, y: Reg, a: Reg) -> Written {
         let at = Location::caller();
-        let av = self.read(a, X, at);
+        let av = self.read(a, Lanes::X, at);
         let v = self.alu.isect4(av[0], at);
-        self.retire(st, op::ISECT4, y, XYZ, v, at)
+        self.retire(st, op::ISECT4, y, Lanes::XYZ, v, at)
     }
 
     // -----------------------------------------------------------------------
@@ -467,21 +465,21 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// RECIP: Y.x = 1 / A.x.
     #[track_caller]
     #[inline(always)]
-    pub fn recip(&mut self, st: u16, y: u8, a: u8) -> Written {
+    pub fn recip(&mut self, st: State, y: Reg, a: Reg) -> Written {
         self.unary(st, op::RECIP, y, a, 0, Location::caller())
     }
 
     /// RECIPY: Y.x = 1 / A.y.
     #[track_caller]
     #[inline(always)]
-    pub fn recipy(&mut self, st: u16, y: u8, a: u8) -> Written {
+    pub fn recipy(&mut self, st: State, y: Reg, a: Reg) -> Written {
         self.unary(st, op::RECIPY, y, a, 1, Location::caller())
     }
 
     /// SQRT: Y.x = sqrt(A.x).
     #[track_caller]
     #[inline(always)]
-    pub fn sqrt(&mut self, st: u16, y: u8, a: u8) -> Written {
+    pub fn sqrt(&mut self, st: State, y: Reg, a: Reg) -> Written {
         self.unary(st, op::SQRT, y, a, 0, Location::caller())
     }
 
@@ -489,31 +487,26 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// same cycle; written together when the later one is done.
     #[track_caller]
     #[inline(always)]
-    pub fn roots(&mut self, st: u16, y: u8, a: u8) -> Written {
+    pub fn roots(&mut self, st: State, y: Reg, a: Reg) -> Written {
         let at = Location::caller();
-        let v = self.alu.roots(self.read(a, X, at)[0]);
-        self.retire(st, op::ROOTS, y, X | Y, v, at)
+        let v = self.alu.roots(self.read(a, Lanes::X, at)[0]);
+        self.retire(st, op::ROOTS, y, Lanes::X | Lanes::Y, v, at)
     }
 
     #[inline(always)]
     fn unary(
         &mut self,
-        st: u16,
+        st: State,
         code: u8,
-        y: u8,
-        a: u8,
+        y: Reg,
+        a: Reg,
         lane: usize,
         at: &'static Location<'static>,
     ) -> Written {
-        let x = self.read(a, 1 << lane, at)[lane];
+        let x = self.read(a, Lanes::lane(lane), at)[lane];
         let v = [self.alu.unary(code, x), 0.0, 0.0];
-        self.retire(st, code, y, X, v, at)
+        self.retire(st, code, y, Lanes::X, v, at)
     }
-}
-
-/// A register's name for messages.
-fn name(code: u8) -> String {
-    isa::register_name(code).map_or_else(|| format!("r{code}"), str::to_string)
 }
 
 // The refusals, out of line: the instructions are inlined into the
@@ -522,67 +515,56 @@ fn name(code: u8) -> String {
 
 #[cold]
 #[inline(never)]
-fn outside_the_stack(code: u8, sp: usize, at: &Location<'_>) -> ! {
+fn outside_the_stack(code: Reg, sp: usize, at: &Location<'_>) -> ! {
+    panic!("{at}: {code} at stack level {sp} is outside the stack")
+}
+
+#[cold]
+#[inline(never)]
+fn unwritten_read(code: Reg, a: Reg, need: Lanes, valid: Lanes, at: &Location<'_>) -> ! {
     panic!(
-        "{at}: {} at stack level {sp} is outside the stack",
-        name(code)
+        "{at}: reads lanes {need:03b} of {code} ({a}), but only {valid:03b} were loaded or written"
     )
 }
 
 #[cold]
 #[inline(never)]
-fn unwritten_read(code: u8, a: u8, need: u8, valid: u8, at: &Location<'_>) -> ! {
-    panic!(
-        "{at}: reads lanes {need:03b} of {} ({}), but only {valid:03b} were loaded or written",
-        name(code),
-        name(a),
-    )
+fn scene_write(a: Reg, at: &Location<'_>) -> ! {
+    panic!("{at}: writes scene register {a} (read-only to the controller)")
 }
 
 #[cold]
 #[inline(never)]
-fn scene_write(a: u8, at: &Location<'_>) -> ! {
-    panic!(
-        "{at}: writes scene register {} (read-only to the controller)",
-        name(a)
-    )
-}
-
-#[cold]
-#[inline(never)]
-fn bad_mask(mask: u8, at: &Location<'_>) -> ! {
+fn bad_mask(mask: Lanes, at: &Location<'_>) -> ! {
     panic!("{at}: lane mask {mask:03b}")
 }
 
 #[cold]
 #[inline(never)]
-fn unwritten_flag(i: usize, mask: u8) -> ! {
+fn unwritten_flag(i: usize, mask: Lanes) -> ! {
     panic!("branching on lane {i}, which was not written (mask {mask:03b})")
 }
 
 #[cold]
 #[inline(never)]
-fn partly_written_signs(mask: u8) -> ! {
+fn partly_written_signs(mask: Lanes) -> ! {
     panic!("sign bits of a partly written vector (mask {mask:03b})")
 }
-
-/// Lane masks with one lane each, by lane index.
-pub const LANE: [u8; 3] = [X, Y, Z];
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fp;
-    use crate::micro::isa::state;
+    use crate::micro::isa::reg;
 
-    fn image(regs: &[(u8, Vec3f)]) -> RegisterImage {
+    fn image(regs: &[(Reg, Vec3f)]) -> RegisterImage {
         let mut img = RegisterImage {
             bits: [[0; 3]; REGISTER_COUNT],
-            valid: [0; REGISTER_COUNT],
+            valid: [Lanes::NONE; REGISTER_COUNT],
         };
         for &(a, v) in regs {
-            img.bits[a as usize] = v.map(f32::to_bits);
-            img.valid[a as usize] = XYZ;
+            img.bits[a.0 as usize] = v.map(f32::to_bits);
+            img.valid[a.0 as usize] = Lanes::XYZ;
         }
         img
     }
@@ -591,9 +573,9 @@ mod tests {
         Core::new(img, 3, 4, Method::Exact, Method::Exact, |_, _| {})
     }
 
-    const A: u8 = reg::EYE;
-    const B: u8 = reg::LIGHT_POS;
-    const S: u16 = state::PRI_HALF;
+    const A: Reg = Reg::EYE;
+    const B: Reg = Reg::LIGHT_POS;
+    const S: State = State::PRI_HALF;
 
     /// The core's layout holds exactly the image: every loaded register
     /// reads back bit for bit, and nothing else is readable.
@@ -603,36 +585,45 @@ mod tests {
         for a in 0..reg::T0 {
             let v = [a, a + 1, a + 2].map(|i| f32::from(i) * -0.37);
             img.bits[a as usize] = v.map(f32::to_bits);
-            img.valid[a as usize] = XYZ;
+            img.valid[a as usize] = Lanes::XYZ;
         }
         img.bits[reg::T0 as usize] = [1, 2, 3];
-        img.valid[reg::T0 as usize] = Y;
+        img.valid[reg::T0 as usize] = Lanes::Y;
         let c = core(&img);
         for a in 0..REGISTER_COUNT as u8 {
-            let want = (img.valid[a as usize] == XYZ).then_some(img.bits[a as usize]);
-            assert_eq!(c.peek(a), want, "{}", name(a));
+            let want = (img.valid[a as usize] == Lanes::XYZ).then_some(img.bits[a as usize]);
+            assert_eq!(c.peek(Reg(a)), want, "{}", Reg(a));
         }
-        assert_eq!(c.read(reg::T0, Y, Location::caller())[1].to_bits(), 2);
+        assert_eq!(
+            c.read(Reg::T0, Lanes::Y, Location::caller())[1].to_bits(),
+            2
+        );
     }
 
     #[test]
     fn lanewise_ops_route_b_as_documented() {
         let img = image(&[(A, [1.0, 2.0, 3.0]), (B, [10.0, 20.0, 30.0])]);
         let mut c = core(&img);
-        let t = reg::T0;
-        assert_eq!(c.add(S, t, A, B, XYZ).value(), [11.0, 22.0, 33.0]);
-        assert_eq!(c.sub(S, t, A, B, XYZ).value(), [-9.0, -18.0, -27.0]);
-        assert_eq!(c.mul(S, t, A, B, XYZ).value(), [10.0, 40.0, 90.0]);
-        assert_eq!(c.nmul(S, t, A, B, XYZ).value(), [-10.0, -40.0, -90.0]);
-        assert_eq!(c.mulx(S, t, A, B, XYZ).value(), [10.0, 20.0, 30.0]);
-        assert_eq!(c.muly(S, t, A, B, XYZ).value(), [20.0, 40.0, 60.0]);
-        assert_eq!(c.mulz(S, t, A, B, XYZ).value(), [30.0, 60.0, 90.0]);
-        assert_eq!(c.nmulx(S, t, A, B, XYZ).value(), [-10.0, -20.0, -30.0]);
-        assert_eq!(c.mulr1(S, t, A, B, XYZ).value(), [20.0, 60.0, 30.0]);
-        assert_eq!(c.mulr2(S, t, A, B, XYZ).value(), [30.0, 20.0, 60.0]);
-        assert_eq!(c.mul2x(S, t, A, B, XYZ).value(), [20.0, 40.0, 60.0]);
-        assert_eq!(c.mov(S, t, A, XYZ).value(), [1.0, 2.0, 3.0]);
-        assert_eq!(c.neg(S, t, A, XYZ).value(), [-1.0, -2.0, -3.0]);
+        let t = Reg::T0;
+        assert_eq!(c.add(S, t, A, B, Lanes::XYZ).value(), [11.0, 22.0, 33.0]);
+        assert_eq!(c.sub(S, t, A, B, Lanes::XYZ).value(), [-9.0, -18.0, -27.0]);
+        assert_eq!(c.mul(S, t, A, B, Lanes::XYZ).value(), [10.0, 40.0, 90.0]);
+        assert_eq!(
+            c.nmul(S, t, A, B, Lanes::XYZ).value(),
+            [-10.0, -40.0, -90.0]
+        );
+        assert_eq!(c.mulx(S, t, A, B, Lanes::XYZ).value(), [10.0, 20.0, 30.0]);
+        assert_eq!(c.muly(S, t, A, B, Lanes::XYZ).value(), [20.0, 40.0, 60.0]);
+        assert_eq!(c.mulz(S, t, A, B, Lanes::XYZ).value(), [30.0, 60.0, 90.0]);
+        assert_eq!(
+            c.nmulx(S, t, A, B, Lanes::XYZ).value(),
+            [-10.0, -20.0, -30.0]
+        );
+        assert_eq!(c.mulr1(S, t, A, B, Lanes::XYZ).value(), [20.0, 60.0, 30.0]);
+        assert_eq!(c.mulr2(S, t, A, B, Lanes::XYZ).value(), [30.0, 20.0, 60.0]);
+        assert_eq!(c.mul2x(S, t, A, B, Lanes::XYZ).value(), [20.0, 40.0, 60.0]);
+        assert_eq!(c.mov(S, t, A, Lanes::XYZ).value(), [1.0, 2.0, 3.0]);
+        assert_eq!(c.neg(S, t, A, Lanes::XYZ).value(), [-1.0, -2.0, -3.0]);
         assert_eq!(c.itof(S, t).value(), [3.0, -4.0, 0.0]);
         assert_eq!(c.stats.instructions(), 14);
         assert_eq!(c.stats.register_writes, 14);
@@ -651,9 +642,12 @@ mod tests {
                 Method::Exact,
                 |e: &TraceEvent, _: &_| events.push(*e),
             );
-            c.mov(S, reg::T1, A, XYZ);
-            c.add(S, reg::T1, A, B, Y | Z);
-            assert_eq!(c.read(reg::T1, XYZ, Location::caller()), [1.0, 22.0, 33.0]);
+            c.mov(S, Reg::T1, A, Lanes::XYZ);
+            c.add(S, Reg::T1, A, B, Lanes::Y | Lanes::Z);
+            assert_eq!(
+                c.read(Reg::T1, Lanes::XYZ, Location::caller()),
+                [1.0, 22.0, 33.0]
+            );
         }
         assert_eq!(events[1].lanes, 0b110);
         assert_eq!(events[1].values, [0, 22f32.to_bits(), 33f32.to_bits()]);
@@ -666,7 +660,7 @@ mod tests {
         let mut c = core(&img);
         c.dot1(S, A, B);
         c.dot2(S);
-        assert_eq!(c.dot3(S, reg::T0).value()[0], 32.0);
+        assert_eq!(c.dot3(S, Reg::T0).value()[0], 32.0);
         assert_eq!(c.stats.count_of(OpClass::Dot), 3);
         assert_eq!(c.stats.register_writes, 1);
     }
@@ -674,7 +668,7 @@ mod tests {
     /// Eq. 29/30 on values whose every sum and product is exact.
     #[test]
     fn the_intersection_sub_graph_computes_a_minus_b_dot_c_and_c_dot_d() {
-        let (b, cc, d, a) = (reg::EYE, reg::LIGHT_POS, reg::LIGHT_COL, reg::CAM_HALF);
+        let (b, cc, d, a) = (Reg::EYE, Reg::LIGHT_POS, Reg::LIGHT_COL, Reg::CAM_HALF);
         let img = image(&[
             (b, [1.0, 2.0, 3.0]),
             (cc, [4.0, 5.0, 6.0]),
@@ -683,10 +677,10 @@ mod tests {
         ]);
         let mut c = core(&img);
         c.isect1(S, b, cc);
-        let g = c.isect2(S, reg::T0, d, cc);
+        let g = c.isect2(S, Reg::T0, d, cc);
         assert_eq!(g.value(), [2.0, 1.25, 12.0]);
-        c.isect3(S, reg::T0);
-        let y = c.isect4(S, reg::T1, a);
+        c.isect3(S, Reg::T0);
+        let y = c.isect4(S, Reg::T1, a);
         // a - b.c = 100 - 32; c.d = 2 + 1.25 + 12.
         assert_eq!(y.value(), [68.0, 15.25, 0.0]);
         assert_eq!(c.stats.register_writes, 2);
@@ -696,7 +690,7 @@ mod tests {
     /// bit for bit.
     #[test]
     fn the_sub_graph_rounds_like_dot_and_sub() {
-        let (b, cc, d, a) = (reg::EYE, reg::LIGHT_POS, reg::LIGHT_COL, reg::CAM_HALF);
+        let (b, cc, d, a) = (Reg::EYE, Reg::LIGHT_POS, Reg::LIGHT_COL, Reg::CAM_HALF);
         let vals = [
             [0.1f32, -0.7, 1.3e3],
             [3.3, 1e-3, -0.45],
@@ -706,16 +700,16 @@ mod tests {
         let img = image(&[(b, vals[0]), (cc, vals[1]), (d, vals[2]), (a, vals[3])]);
         let mut c = core(&img);
         c.isect1(S, b, cc);
-        c.isect2(S, reg::T0, d, cc);
-        c.isect3(S, reg::T0);
-        let y = c.isect4(S, reg::T1, a).value();
+        c.isect2(S, Reg::T0, d, cc);
+        c.isect3(S, Reg::T0);
+        let y = c.isect4(S, Reg::T1, a).value();
         c.dot1(S, b, cc);
         c.dot2(S);
-        let bc = c.dot3(S, reg::T2);
-        let diff = c.sub(S, reg::T3, a, reg::T2, X).value()[0];
+        let bc = c.dot3(S, Reg::T2);
+        let diff = c.sub(S, Reg::T3, a, Reg::T2, Lanes::X).value()[0];
         c.dot1(S, cc, d);
         c.dot2(S);
-        let cd = c.dot3(S, reg::T4).value()[0];
+        let cd = c.dot3(S, Reg::T4).value()[0];
         assert!(bc.value()[0] != 0.0);
         assert_eq!(y[0].to_bits(), diff.to_bits());
         assert_eq!(y[1].to_bits(), cd.to_bits());
@@ -726,10 +720,10 @@ mod tests {
         let img = image(&[(A, [4.0, 0.5, 0.0])]);
         for m in Method::ALL {
             let mut c = Core::new(&img, 0, 0, m, m, |_, _| {});
-            assert_eq!(c.sqrt(S, reg::T0, A).value()[0], 2.0);
-            assert_eq!(c.recip(S, reg::T0, A).value()[0], 0.25);
-            assert_eq!(c.recipy(S, reg::T0, A).value()[0], 2.0);
-            assert_eq!(c.roots(S, reg::T0, A).value(), [2.0, 0.25, 0.0]);
+            assert_eq!(c.sqrt(S, Reg::T0, A).value()[0], 2.0);
+            assert_eq!(c.recip(S, Reg::T0, A).value()[0], 0.25);
+            assert_eq!(c.recipy(S, Reg::T0, A).value()[0], 2.0);
+            assert_eq!(c.roots(S, Reg::T0, A).value(), [2.0, 0.25, 0.0]);
             assert_eq!(
                 c.stats.instruction_cycles(),
                 u64::from(
@@ -747,7 +741,7 @@ mod tests {
     #[should_panic(expected = "only 000 were loaded or written")]
     fn reading_an_unwritten_register_is_refused() {
         let img = image(&[]);
-        core(&img).mov(S, reg::T0, reg::T1, XYZ);
+        core(&img).mov(S, Reg::T0, Reg::T1, Lanes::XYZ);
     }
 
     #[test]
@@ -755,22 +749,22 @@ mod tests {
     fn reading_an_unwritten_lane_is_refused() {
         let img = image(&[(A, [4.0, 0.0, 0.0])]);
         let mut c = core(&img);
-        c.sqrt(S, reg::T0, A);
-        c.add(S, reg::T1, reg::T0, reg::T0, Y);
+        c.sqrt(S, Reg::T0, A);
+        c.add(S, Reg::T1, Reg::T0, Reg::T0, Lanes::Y);
     }
 
     #[test]
     #[should_panic(expected = "read-only")]
     fn writing_a_scene_register_is_refused() {
         let img = image(&[(A, [1.0; 3])]);
-        core(&img).mov(S, reg::EYE, A, XYZ);
+        core(&img).mov(S, Reg::EYE, A, Lanes::XYZ);
     }
 
     #[test]
     #[should_panic(expected = "outside the stack")]
     fn the_parent_of_the_root_does_not_exist() {
         let img = image(&[(A, [1.0; 3])]);
-        core(&img).mov(S, reg::PAR_O, A, XYZ);
+        core(&img).mov(S, Reg::PAR_O, A, Lanes::XYZ);
     }
 
     #[test]
@@ -784,11 +778,11 @@ mod tests {
                 0,
                 Method::Exact,
                 Method::Exact,
-                |e: &TraceEvent, _: &_| dsts.push(e.dst),
+                |e: &TraceEvent, _: &_| dsts.push(Reg(e.dst)),
             );
             c.sp = 2;
-            c.mov(S, reg::CUR_W, A, XYZ);
-            c.mov(S, reg::PAR_COL, A, XYZ);
+            c.mov(S, Reg::CUR_W, A, Lanes::XYZ);
+            c.mov(S, Reg::PAR_COL, A, Lanes::XYZ);
         }
         assert_eq!(
             dsts,

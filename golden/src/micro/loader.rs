@@ -9,7 +9,7 @@
 //! (see [`bounding_box`]). The RTL harness loads these very bits.
 
 use super::core::RegisterImage;
-use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
+use super::isa::{self, dim, Lanes, PlaneField, Reg, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
 use crate::scene::{
     round_down, round_up, Material, Scene, Speedups, Vec3f, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
@@ -147,7 +147,7 @@ impl Config {
 /// f32 bits). Unused sphere and plane slots are not written.
 pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
     let d = &scene.derived;
-    let mut w: Vec<(u8, Vec3f)> = Vec::new();
+    let mut w: Vec<(Reg, Vec3f)> = Vec::new();
     for (k, s) in scene.spheres.iter().enumerate() {
         let m = &s.material;
         w.push((isa::sphere(k, SphereField::C), s.center));
@@ -173,11 +173,11 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
             [m.diffuse, m.specular, m.reflection],
         ));
     }
-    w.push((reg::LIGHT_POS, scene.light.position));
-    w.push((reg::LIGHT_COL, scene.light.color));
-    w.push((reg::EYE, scene.camera.eye));
+    w.push((Reg::LIGHT_POS, scene.light.position));
+    w.push((Reg::LIGHT_COL, scene.light.color));
+    w.push((Reg::EYE, scene.camera.eye));
     w.push((
-        reg::CAM_HALF,
+        Reg::CAM_HALF,
         [-d.half_width, d.half_height, scene.camera.distance],
     ));
     for a in 0..3 {
@@ -198,11 +198,11 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
         let corner = [0, 1, 2].map(|i| if k >> i & 1 == 1 { hi[i] } else { lo[i] });
         w.push((isa::corner(k), corner));
     }
-    w.push((reg::ZERO, [0.0; 3]));
-    w.push((reg::ONE, [1.0; 3]));
+    w.push((Reg::ZERO, [0.0; 3]));
+    w.push((Reg::ONE, [1.0; 3]));
     w.sort_by_key(|&(a, _)| a);
     w.into_iter()
-        .map(|(a, v)| (a, v.map(f32::to_bits)))
+        .map(|(a, v)| (a.0, v.map(f32::to_bits)))
         .collect()
 }
 
@@ -240,11 +240,11 @@ pub fn bounding_box(scene: &Scene) -> (Vec3f, Vec3f) {
 pub fn register_image(scene: &Scene) -> RegisterImage {
     let mut img = RegisterImage {
         bits: [[0; 3]; REGISTER_COUNT],
-        valid: [0; REGISTER_COUNT],
+        valid: [Lanes::NONE; REGISTER_COUNT],
     };
     for (a, v) in scene_writes(scene) {
         img.bits[a as usize] = v;
-        img.valid[a as usize] = 0b111;
+        img.valid[a as usize] = Lanes::XYZ;
     }
     img
 }
@@ -252,6 +252,7 @@ pub fn register_image(scene: &Scene) -> RegisterImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::micro::isa::reg;
 
     #[test]
     fn the_reference_scene_loads_every_scene_register_it_uses_once() {
@@ -264,9 +265,9 @@ mod tests {
         // 2 spheres, 2 planes, 4 light/camera, 6 rotation, 8 corners, 2 constants.
         assert_eq!(w.len(), 2 * 4 + 2 * 4 + 4 + 6 + 8 + 2);
         assert!(w.iter().all(|&(a, _)| a < reg::T0));
-        let at = |a: u8| {
+        let at = |a: Reg| {
             w.iter()
-                .find(|e| e.0 == a)
+                .find(|e| e.0 == a.0)
                 .expect("written")
                 .1
                 .map(f32::from_bits)
@@ -278,7 +279,7 @@ mod tests {
         // The back wall: z = 700 facing -: n = <0, 0, -1>, q = -700.
         assert_eq!(at(isa::plane(1, PlaneField::N)), [0.0, 0.0, -1.0]);
         assert_eq!(at(isa::plane(1, PlaneField::Q)), [-700.0, 0.0, 0.0]);
-        assert_eq!(at(reg::CAM_HALF), [-400.0, 300.0, 600.0]);
+        assert_eq!(at(Reg::CAM_HALF), [-400.0, 300.0, 600.0]);
         // The spheres span x -260..240, y 2..302, z 10..400: margin 500/256.
         let m = 500.0 / 256.0;
         assert_eq!(at(isa::corner(0)), [-260.0 - m, 2.0 - m, 10.0 - m]);

@@ -3,7 +3,10 @@
 //! 3.12: "one Verilog ALU instruction per line of code").
 //!
 //! - [`isa`]: opcodes, register addresses and FSM states, generated from
-//!   `rtl/pp/isa.vh`, the single source of truth shared with the RTL.
+//!   `rtl/pp/isa.vh`, the single source of truth shared with the RTL; the
+//!   typed [`Reg`](isa::Reg), [`State`](isa::State) and
+//!   [`Lanes`](isa::Lanes) the instructions take, and the labels of all
+//!   three.
 //! - [`loader`]: what the scene port writes (the scene registers) and the
 //!   controller's configuration.
 //! - [`core`](mod@core): the core: register file, memory controller (CUR/PAR
