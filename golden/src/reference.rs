@@ -27,19 +27,14 @@
 //!   `kr > 0` and `depth + 1 < max_depth` (the primary ray has depth 0).
 
 use crate::frame::Frame;
-use crate::scene::{Scene, Vec3f};
+use crate::scene::{dvec, Scene, Vec3f};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 /// Exponent of the specular term (thesis equation 11).
 pub const SPECULAR_EXPONENT: i32 = 20;
 
-/// Which object a ray hit or leaves from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Object {
-    Sphere(usize),
-    Plane(usize),
-}
+pub use crate::scene::Object;
 
 /// The colour of pixel (px, py): linear RGB, not clamped.
 pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
@@ -98,10 +93,6 @@ fn rotated_direction(scene: &Scene, rotation: &DMat3, px: u32, py: u32) -> DVec3
 pub fn camera_rotation(deg: Vec3f) -> DMat3 {
     let [x, y, z] = deg.map(|a| f64::from(a).to_radians());
     DMat3::from_rotation_z(z) * DMat3::from_rotation_y(y) * DMat3::from_rotation_x(x)
-}
-
-fn dvec(v: Vec3f) -> DVec3 {
-    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
 }
 
 /// Distance along the unit ray (o, d) to sphere `i`, if it is hit from

@@ -3,13 +3,14 @@
 //! One [`TraceEvent`] per register-file write: the pixel, the write's sequence
 //! number within that pixel, the FSM state that made it, the destination
 //! register and lane mask, and the written values as raw bits. The RTL emits
-//! them on its debug port, the golden model in the same order.
+//! them on its trace port, the golden model in the same order.
 //!
 //! Trace files are versioned binary: a header (magic, version, scene hash,
 //! configuration text) followed by fixed-size records, read and written as
 //! streams. A truncated or foreign file is an error that says what and where,
 //! never a panic and never a silently shorter trace.
 
+use crate::micro::isa;
 use std::io::{self, Read, Write};
 
 /// One register-file write.
@@ -240,18 +241,21 @@ impl<R: Read> Iterator for TraceReader<R> {
 
 /// The human-readable form of an event: one line, lanes shown as raw bits and
 /// as the float they hold. `state_name` and `register_name` turn ids into
-/// names (the ISA tables); pass `|_| None` to print numbers.
+/// names (usually the ISA's tables, `&isa::state_name` and
+/// `&isa::register_name`); pass `|_| None` to print numbers, written as
+/// [`isa`] writes unnamed ones.
 pub fn format_event(
     e: &TraceEvent,
     state_name: &dyn Fn(u16) -> Option<&'static str>,
     register_name: &dyn Fn(u8) -> Option<&'static str>,
 ) -> String {
-    let state = state_name(e.state).map_or_else(|| format!("state#{}", e.state), str::to_string);
-    let dst = register_name(e.dst).map_or_else(|| format!("r{}", e.dst), str::to_string);
-    let mut line = format!("({:>4},{:>4}) #{:<5} {:<16} {dst}.", e.x, e.y, e.seq, state);
-    for (i, lane) in ['x', 'y', 'z'].iter().enumerate() {
-        line.push(if e.lanes >> i & 1 == 1 { *lane } else { '_' });
-    }
+    let state = state_name(e.state).map_or_else(|| isa::unnamed_state(e.state), str::to_string);
+    let dst = register_name(e.dst).map_or_else(|| isa::unnamed_register(e.dst), str::to_string);
+    let lanes = isa::lanes_label(e.lanes);
+    let mut line = format!(
+        "({:>4},{:>4}) #{:<5} {state:<16} {dst}.{lanes}",
+        e.x, e.y, e.seq
+    );
     for i in 0..3 {
         if e.lanes >> i & 1 == 1 {
             line += &format!(" {:#010x}({:e})", e.values[i], f32::from_bits(e.values[i]));

@@ -281,7 +281,10 @@ fn the_trace_has_one_named_event_per_register_write_in_sequence() -> TestResult 
                 assert_eq!((e.x, e.y), (x as u16, y as u16));
                 let dst = isa::register_name(e.dst);
                 assert!(dst.is_some(), "unnamed register {} at {at}", e.dst);
-                assert!(!isa::is_stack_relative(e.dst), "undecoded {dst:?} at {at}");
+                assert!(
+                    !isa::is_stack_relative(isa::Reg(e.dst)),
+                    "undecoded {dst:?} at {at}"
+                );
                 assert!(e.dst >= reg::T0, "scene register {dst:?} written at {at}");
                 assert!(
                     isa::state_name(e.state).is_some(),
@@ -312,7 +315,7 @@ fn the_trace_has_one_named_event_per_register_write_in_sequence() -> TestResult 
             let (last, _) = events
                 .iter()
                 .rev()
-                .find(|(e, _)| e.dst == root_col)
+                .find(|(e, _)| isa::Reg(e.dst) == root_col)
                 .expect("the root colour is written");
             assert_eq!(last.lanes, 0b111);
             assert_eq!(last.values, r.rgb.map(f32::to_bits));

@@ -1,296 +1,60 @@
-//! The pixel processor core as the controller sees it: the ALU (thesis 4.2,
-//! with its internal register F), the ALU controller's opcode decoding
-//! (4.3), and the register file with its memory controller (4.4, 4.5).
-//!
-//! Each public method is one instruction, issued from the FSM state passed
-//! as its first argument: it reads its operands, computes with `golden::fp`
-//! (one rounding per operation), writes its destination lanes or F, counts
-//! its cycles, and reports the register-file write as a [`TraceEvent`]
-//! together with the Rust source line that issued it (`#[track_caller]`).
-//! Writes to F are internal to the ALU: they are not register-file writes
-//! and emit no event (the RTL's debug port watches the memory's write port).
-//!
-//! The model refuses (panics on) anything the RTL could not do or should not
-//! do: reading a register lane that was neither loaded with the scene nor
-//! written earlier in this pixel, writing a scene register, a `PAR_*`
-//! address at stack level 0, and lane masks an instruction does not have.
+//! The ALU (thesis 4.2): what each opcode computes from its operand values,
+//! through `golden::fp` only (one rounding per operation, lanes
+//! independent), its internal vector register F, and the cycles each opcode
+//! takes. It knows no registers: the core ([`super::core`]) reads the
+//! operands, hands their values here, and writes the result.
 
-use super::isa::{self, op, reg, REGISTER_COUNT};
-use super::stats::{OpClass, OpStats};
+use super::isa::op;
 use crate::fp::{self, Method};
-use crate::trace::TraceEvent;
+use crate::scene::Vec3f;
 use std::panic::Location;
 
-/// Three f32 lanes x, y, z.
-pub type Vec3 = [f32; 3];
-
-/// Lane masks: bit 0 = x, bit 1 = y, bit 2 = z.
-pub mod lanes {
-    pub const X: u8 = 0b001;
-    pub const Y: u8 = 0b010;
-    pub const Z: u8 = 0b100;
-    pub const XYZ: u8 = 0b111;
-}
-use lanes::{X, XYZ, Y, Z};
-
-/// The value an instruction wrote, for the controller's branch flags
-/// (thesis 4.2: "combinational float-to-boolean" on the written value).
-/// Reading a lane the instruction did not write is a bug in the program and
-/// panics.
-#[derive(Debug, Clone, Copy)]
-pub struct Written {
-    value: Vec3,
-    mask: u8,
-}
-
-impl Written {
-    #[inline(always)]
-    fn lane(&self, i: usize) -> f32 {
-        if self.mask >> i & 1 != 1 {
-            unwritten_flag(i, self.mask);
-        }
-        self.value[i]
-    }
-
-    /// Sign flag and not zero and not NaN: the lane is < 0.
-    #[inline(always)]
-    pub fn neg(&self, i: usize) -> bool {
-        self.lane(i) < 0.0
-    }
-
-    /// Not sign, not zero, not NaN: the lane is > 0.
-    #[inline(always)]
-    pub fn pos(&self, i: usize) -> bool {
-        self.lane(i) > 0.0
-    }
-
-    /// The sign bit of every lane, bit i = lane i (all three written).
-    #[inline(always)]
-    pub fn sign_bits(&self) -> u8 {
-        if self.mask != XYZ {
-            partly_written_signs(self.mask);
-        }
-        let sign = |i: usize| u8::from(self.value[i].is_sign_negative()) << i;
-        sign(0) | sign(1) | sign(2)
-    }
-
-    /// The written lanes, for tests and diagnostics.
-    pub fn value(&self) -> Vec3 {
-        self.value
-    }
-}
-
-/// The register file contents a scene loads (see `micro::loader`), and which
-/// lanes of each address it holds.
+/// The ALU of one pixel's run: F, and the methods of its reciprocal and
+/// square-root units (RTL parameters).
 #[derive(Debug, Clone)]
-pub struct RegisterImage {
-    pub bits: [[u32; 3]; REGISTER_COUNT],
-    pub valid: [u8; REGISTER_COUNT],
-}
-
-/// The register file as the core holds it: lane by lane (`lanes[i][a]` is
-/// lane i of address a), and the mask of lanes each address holds. Kept apart,
-/// the lanes of one register never share a memory word: every lane's read is
-/// a 4-byte load of what one 4-byte store wrote, so an instruction's operand
-/// is forwarded straight from the previous instruction's write instead of
-/// stalling on a load that spans a partly written register.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct LoadedImage {
-    lanes: [[u32; REGISTER_COUNT]; 3],
-    valid: [u8; REGISTER_COUNT],
-}
-
-impl LoadedImage {
-    pub(crate) fn new(image: &RegisterImage) -> LoadedImage {
-        let mut lanes = [[0; REGISTER_COUNT]; 3];
-        for (a, bits) in image.bits.iter().enumerate() {
-            for (lane, &b) in lanes.iter_mut().zip(bits) {
-                lane[a] = b;
-            }
-        }
-        LoadedImage {
-            lanes,
-            valid: image.valid,
-        }
-    }
-}
-
-/// The core executing one pixel's program.
-pub struct Core<T> {
-    regs: LoadedImage,
-    f: Vec3,
+pub struct Alu {
+    f: Vec3f,
     f_valid: bool,
-    /// The stack pointer: the level `CUR_*` addresses.
-    pub sp: usize,
-    px: u32,
-    py: u32,
-    seq: u32,
     recip: Method,
     sqrt: Method,
-    /// Instructions and cycles so far.
-    pub stats: OpStats,
-    trace: T,
 }
 
 /// `[f(0), f(1), f(2)]`, spelled out (`array::map` is not always inlined,
 /// and this is the inner loop).
 #[inline(always)]
-fn lanes3(mut f: impl FnMut(usize) -> f32) -> Vec3 {
+fn lanes3(mut f: impl FnMut(usize) -> f32) -> Vec3f {
     [f(0), f(1), f(2)]
 }
 
-/// Whether register address `a` belongs to the scene (read-only).
-#[inline(always)]
-fn is_scene(a: u8) -> bool {
-    a < reg::T0
-}
-
-impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
-    /// A core for pixel (px, py), with the scene's registers loaded, the
-    /// temporaries and the stack empty, sp = 0.
-    pub fn new(
-        image: &RegisterImage,
-        px: u32,
-        py: u32,
-        recip: Method,
-        sqrt: Method,
-        trace: T,
-    ) -> Core<T> {
-        Core::loaded(&LoadedImage::new(image), px, py, recip, sqrt, trace)
-    }
-
-    /// [`Core::new`] from an image already in the core's layout.
+impl Alu {
+    /// An ALU with F not yet written.
     #[inline(always)]
-    pub(crate) fn loaded(
-        image: &LoadedImage,
-        px: u32,
-        py: u32,
-        recip: Method,
-        sqrt: Method,
-        trace: T,
-    ) -> Core<T> {
-        Core {
-            regs: image.clone(),
+    pub fn new(recip: Method, sqrt: Method) -> Alu {
+        Alu {
             f: [0.0; 3],
             f_valid: false,
-            sp: 0,
-            px,
-            py,
-            seq: 0,
             recip,
             sqrt,
-            stats: OpStats::default(),
-            trace,
         }
     }
 
-    /// The physical register `code` decodes to at the current sp.
+    /// Cycles opcode `code` takes: 1, or the unit's latency + 1 for the
+    /// multi-cycle ones (issued with in_valid, written when out_valid).
     #[inline(always)]
-    fn decode(&self, code: u8, at: &Location<'_>) -> u8 {
-        match isa::decode(code, self.sp) {
-            Some(a) => a,
-            None => outside_the_stack(code, self.sp, at),
-        }
-    }
-
-    #[inline(always)]
-    fn read(&self, code: u8, need: u8, at: &Location<'_>) -> Vec3 {
-        let a = self.decode(code, at) as usize;
-        let valid = self.regs.valid[a];
-        if valid & need != need {
-            unwritten_read(code, a as u8, need, valid, at);
-        }
-        let lane = |i: usize| f32::from_bits(self.regs.lanes[i][a]);
-        [lane(0), lane(1), lane(2)]
-    }
-
-    /// The bits of physical register `a` as they are now (for the result).
-    pub fn peek(&self, a: u8) -> Option<[u32; 3]> {
-        let a = a as usize;
-        let lane = |i: usize| self.regs.lanes[i][a];
-        (self.regs.valid[a] == XYZ).then(|| [lane(0), lane(1), lane(2)])
-    }
-
-    /// The end of every instruction that writes the register file: count
-    /// its cycles, write lanes `mask` of `y` to `dst` (emitting the event),
-    /// and hand the written value to the controller's branches.
-    #[inline(always)]
-    fn retire(
-        &mut self,
-        state: u16,
-        code: u8,
-        dst: u8,
-        mask: u8,
-        y: Vec3,
-        at: &'static Location<'static>,
-    ) -> Written {
-        self.count(code);
-        self.write(state, dst, mask, y, at);
-        Written { value: y, mask }
-    }
-
-    #[inline(always)]
-    fn write(&mut self, state: u16, code: u8, mask: u8, y: Vec3, at: &'static Location<'static>) {
-        let a = self.decode(code, at);
-        if is_scene(a) {
-            scene_write(a, at);
-        }
-        if mask == 0 || mask > XYZ {
-            bad_mask(mask, at);
-        }
-        let mut values = [0u32; 3];
-        for (i, value) in values.iter_mut().enumerate() {
-            if mask >> i & 1 == 1 {
-                *value = y[i].to_bits();
-                self.regs.lanes[i][a as usize] = *value;
-            }
-        }
-        self.regs.valid[a as usize] |= mask;
-        self.stats.register_writes += 1;
-        let event = TraceEvent {
-            x: self.px as u16,
-            y: self.py as u16,
-            seq: self.seq,
-            state,
-            dst: a,
-            lanes: mask,
-            values,
-        };
-        self.seq += 1;
-        (self.trace)(&event, at);
-    }
-
-    #[inline(always)]
-    fn f(&self, at: &Location<'_>) -> Vec3 {
-        if !self.f_valid {
-            unwritten_f(at);
-        }
-        self.f
-    }
-
-    #[inline(always)]
-    fn count(&mut self, code: u8) {
-        let class = OpClass::of(code).expect("every issued opcode has a class");
-        let cycles = match code {
+    pub fn cycles(&self, code: u8) -> u64 {
+        match code {
             op::RECIP | op::RECIPY => u64::from(fp::recip_latency(self.recip)) + 1,
             op::SQRT => u64::from(fp::sqrt_latency(self.sqrt)) + 1,
             op::ROOTS => u64::from(roots_latency(self.recip, self.sqrt)) + 1,
             _ => 1,
-        };
-        self.stats.record(class, cycles);
+        }
     }
 
-    /// Lane-wise binary instructions and their B-operand routing: lane i of
-    /// the result combines A.i with B.(route[i]).
+    /// The B-operand routing of a lane-wise binary opcode: lane i of the
+    /// result combines A.i with B.(`route[i]`).
     #[inline(always)]
-    fn lanewise(
-        &mut self,
-        state: u16,
-        code: u8,
-        [dst, a, b, mask]: [u8; 4],
-        at: &'static Location<'static>,
-    ) -> Written {
-        let route: [usize; 3] = match code {
+    pub fn route(code: u8) -> [usize; 3] {
+        match code {
             op::ADD | op::SUB | op::MUL | op::NMUL => [0, 1, 2],
             op::MULX | op::NMULX | op::MUL2X => [0, 0, 0],
             op::MULY => [1, 1, 1],
@@ -298,18 +62,17 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             op::MULR1 => [1, 2, 0],
             op::MULR2 => [2, 0, 1],
             _ => unreachable!("not a lane-wise binary opcode: {code}"),
-        };
-        let mut need_b = 0;
-        for (i, &r) in route.iter().enumerate() {
-            if mask >> i & 1 == 1 {
-                need_b |= 1 << r;
-            }
         }
-        let av = self.read(a, mask, at);
-        let bv = self.read(b, need_b, at);
+    }
+
+    /// ADD, SUB, MUL, NMUL, MULX, MULY, MULZ, NMULX, MULR1, MULR2, MUL2X:
+    /// every lane of `a` with the lane of `b` that [`Alu::route`] gives.
+    #[inline(always)]
+    pub fn lanewise(code: u8, a: Vec3f, b: Vec3f) -> Vec3f {
+        let route = Alu::route(code);
         let mut y = [0.0f32; 3];
         for i in 0..3 {
-            let (p, q) = (av[i], bv[route[i]]);
+            let (p, q) = (a[i], b[route[i]]);
             y[i] = match code {
                 op::ADD => fp::add(p, q),
                 // fp_add with B's sign bit flipped (thesis 4.2).
@@ -323,121 +86,33 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
                 _ => fp::mul(p, q),
             };
         }
-        self.retire(state, code, dst, mask, y, at)
+        y
     }
 
-    // -----------------------------------------------------------------------
-    // Single-cycle vector instructions
-    // -----------------------------------------------------------------------
-
-    /// ADD: Y = A + B.
-    #[track_caller]
+    /// NEG: the sign bits flipped (exact).
     #[inline(always)]
-    pub fn add(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::ADD, [y, a, b, m], Location::caller())
+    pub fn neg([x, y, z]: Vec3f) -> Vec3f {
+        [-x, -y, -z]
     }
 
-    /// SUB: Y = A - B.
-    #[track_caller]
+    /// ITOF: `<itof(px), itof(-py), itof(0)>`.
     #[inline(always)]
-    pub fn sub(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::SUB, [y, a, b, m], Location::caller())
+    pub fn itof(px: u32, py: u32) -> Vec3f {
+        [fp::itof(px as i32), fp::itof(-(py as i32)), fp::itof(0)]
     }
 
-    /// MUL: Y = A * B, componentwise.
-    #[track_caller]
     #[inline(always)]
-    pub fn mul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MUL, [y, a, b, m], Location::caller())
+    fn f(&self, at: &Location<'_>) -> Vec3f {
+        if !self.f_valid {
+            unwritten_f(at);
+        }
+        self.f
     }
 
-    /// NMUL: Y = -(A * B).
-    #[track_caller]
     #[inline(always)]
-    pub fn nmul(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::NMUL, [y, a, b, m], Location::caller())
-    }
-
-    /// MULX: Y = A * <B.x, B.x, B.x>.
-    #[track_caller]
-    #[inline(always)]
-    pub fn mulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULX, [y, a, b, m], Location::caller())
-    }
-
-    /// MULY: Y = A * <B.y, B.y, B.y>.
-    #[track_caller]
-    #[inline(always)]
-    pub fn muly(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULY, [y, a, b, m], Location::caller())
-    }
-
-    /// MULZ: Y = A * <B.z, B.z, B.z>.
-    #[track_caller]
-    #[inline(always)]
-    pub fn mulz(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULZ, [y, a, b, m], Location::caller())
-    }
-
-    /// NMULX: Y = -(A * <B.x, B.x, B.x>).
-    #[track_caller]
-    #[inline(always)]
-    pub fn nmulx(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::NMULX, [y, a, b, m], Location::caller())
-    }
-
-    /// MULR1: Y = A * <B.y, B.z, B.x>.
-    #[track_caller]
-    #[inline(always)]
-    pub fn mulr1(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULR1, [y, a, b, m], Location::caller())
-    }
-
-    /// MUL2X: Y = p + p with p = A * <B.x, B.x, B.x> (doubling is exact).
-    #[track_caller]
-    #[inline(always)]
-    pub fn mul2x(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MUL2X, [y, a, b, m], Location::caller())
-    }
-
-    /// MULR2: Y = A * <B.z, B.x, B.y>.
-    #[track_caller]
-    #[inline(always)]
-    pub fn mulr2(&mut self, st: u16, y: u8, a: u8, b: u8, m: u8) -> Written {
-        self.lanewise(st, op::MULR2, [y, a, b, m], Location::caller())
-    }
-
-    /// MOV: Y = A.
-    #[track_caller]
-    #[inline(always)]
-    pub fn mov(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
-        let at = Location::caller();
-        let v = self.read(a, m, at);
-        self.retire(st, op::MOV, y, m, v, at)
-    }
-
-    /// NEG: Y = -A (the sign bits flipped, exact).
-    #[track_caller]
-    #[inline(always)]
-    pub fn neg(&mut self, st: u16, y: u8, a: u8, m: u8) -> Written {
-        let at = Location::caller();
-        let [vx, vy, vz] = self.read(a, m, at);
-        let v = [-vx, -vy, -vz];
-        self.retire(st, op::NEG, y, m, v, at)
-    }
-
-    /// ITOF: Y = <itof(px), itof(-py), itof(0)>, from the controller's pixel
-    /// coordinate registers (no register operand).
-    #[track_caller]
-    #[inline(always)]
-    pub fn itof(&mut self, st: u16, y: u8) -> Written {
-        let at = Location::caller();
-        let v = [
-            fp::itof(self.px as i32),
-            fp::itof(-(self.py as i32)),
-            fp::itof(0),
-        ];
-        self.retire(st, op::ITOF, y, XYZ, v, at)
+    fn set_f(&mut self, f: Vec3f) {
+        self.f = f;
+        self.f_valid = true;
     }
 
     // -----------------------------------------------------------------------
@@ -445,33 +120,23 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     // -----------------------------------------------------------------------
 
     /// DOT1: F = A * B.
-    #[track_caller]
     #[inline(always)]
-    pub fn dot1(&mut self, _st: u16, a: u8, b: u8) {
-        let at = Location::caller();
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        self.f = lanes3(|i| fp::mul(av[i], bv[i]));
-        self.f_valid = true;
-        self.count(op::DOT1);
+    pub fn dot1(&mut self, a: Vec3f, b: Vec3f) {
+        self.set_f(lanes3(|i| fp::mul(a[i], b[i])));
     }
 
     /// DOT2: F.x = F.x + F.y.
-    #[track_caller]
     #[inline(always)]
-    pub fn dot2(&mut self, _st: u16) {
-        let f = self.f(Location::caller());
+    pub fn dot2(&mut self, at: &Location<'_>) {
+        let f = self.f(at);
         self.f[0] = fp::add(f[0], f[1]);
-        self.count(op::DOT2);
     }
 
-    /// DOT3: Y.x = F.x + F.z, i.e. `(a.x*b.x + a.y*b.y) + a.z*b.z`.
-    #[track_caller]
+    /// DOT3: `<F.x + F.z, 0, 0>`, i.e. `(a.x*b.x + a.y*b.y) + a.z*b.z`.
     #[inline(always)]
-    pub fn dot3(&mut self, st: u16, y: u8) -> Written {
-        let at = Location::caller();
+    pub fn dot3(&self, at: &Location<'_>) -> Vec3f {
         let f = self.f(at);
-        let v = [fp::add(f[0], f[2]), 0.0, 0.0];
-        self.retire(st, op::DOT3, y, X, v, at)
+        [fp::add(f[0], f[2]), 0.0, 0.0]
     }
 
     // -----------------------------------------------------------------------
@@ -502,111 +167,59 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     // -----------------------------------------------------------------------
 
     /// ISECT1: F = -(A * B) [A = b, B = c].
-    #[track_caller]
     #[inline(always)]
-    pub fn isect1(&mut self, _st: u16, a: u8, b: u8) {
-        let at = Location::caller();
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        self.f = lanes3(|i| -fp::mul(av[i], bv[i]));
-        self.f_valid = true;
-        self.count(op::ISECT1);
+    pub fn isect1(&mut self, a: Vec3f, b: Vec3f) {
+        self.set_f(lanes3(|i| -fp::mul(a[i], b[i])));
     }
 
-    /// ISECT2: Y = A * B [A = d, B = c]; F = <F.x + F.y, F.y, F.z>.
-    #[track_caller]
+    /// ISECT2: returns g = A * B [A = d, B = c]; F = <F.x + F.y, F.y, F.z>.
     #[inline(always)]
-    pub fn isect2(&mut self, st: u16, y: u8, a: u8, b: u8) -> Written {
-        let at = Location::caller();
+    pub fn isect2(&mut self, a: Vec3f, b: Vec3f, at: &Location<'_>) -> Vec3f {
         let f = self.f(at);
-        let (av, bv) = (self.read(a, XYZ, at), self.read(b, XYZ, at));
-        let g = lanes3(|i| fp::mul(av[i], bv[i]));
+        let g = lanes3(|i| fp::mul(a[i], b[i]));
         self.f = [fp::add(f[0], f[1]), f[1], f[2]];
-        self.retire(st, op::ISECT2, y, XYZ, g, at)
+        g
     }
 
     /// ISECT3: F = <A.x + A.y, F.x + F.z, A.z> [A = g].
-    #[track_caller]
     #[inline(always)]
-    pub fn isect3(&mut self, _st: u16, a: u8) {
-        let at = Location::caller();
+    pub fn isect3(&mut self, g: Vec3f, at: &Location<'_>) {
         let f = self.f(at);
-        let g = self.read(a, XYZ, at);
         self.f = [fp::add(g[0], g[1]), fp::add(f[0], f[2]), g[2]];
-        self.count(op::ISECT3);
     }
 
-    /// ISECT4: Y = F = <A.x + F.y, F.x + F.z, 0> [A.x = a].
-    #[track_caller]
+    /// ISECT4: returns F = <a + F.y, F.x + F.z, 0> [a = A.x].
     #[inline(always)]
-    pub fn isect4(&mut self, st: u16, y: u8, a: u8) -> Written {
-        let at = Location::caller();
+    pub fn isect4(&mut self, a: f32, at: &Location<'_>) -> Vec3f {
         let f = self.f(at);
-        let av = self.read(a, X, at);
-        let v = [fp::add(av[0], f[1]), fp::add(f[0], f[2]), 0.0];
+        let v = [fp::add(a, f[1]), fp::add(f[0], f[2]), 0.0];
         self.f = v;
-        self.retire(st, op::ISECT4, y, XYZ, v, at)
+        v
     }
 
     // -----------------------------------------------------------------------
-    // Multi-cycle instructions: issued with in_valid, written when the unit
-    // raises out_valid, latency + 1 cycles in all, lane x only
+    // The multi-cycle units
     // -----------------------------------------------------------------------
 
-    /// RECIP: Y.x = 1 / A.x.
-    #[track_caller]
+    /// RECIP, RECIPY: `1 / x`; SQRT: `sqrt(x)`.
     #[inline(always)]
-    pub fn recip(&mut self, st: u16, y: u8, a: u8) -> Written {
-        self.unary(st, op::RECIP, y, a, 0, Location::caller())
-    }
-
-    /// RECIPY: Y.x = 1 / A.y.
-    #[track_caller]
-    #[inline(always)]
-    pub fn recipy(&mut self, st: u16, y: u8, a: u8) -> Written {
-        self.unary(st, op::RECIPY, y, a, 1, Location::caller())
-    }
-
-    /// SQRT: Y.x = sqrt(A.x).
-    #[track_caller]
-    #[inline(always)]
-    pub fn sqrt(&mut self, st: u16, y: u8, a: u8) -> Written {
-        self.unary(st, op::SQRT, y, a, 0, Location::caller())
-    }
-
-    /// ROOTS: Y.x = sqrt(A.x), Y.y = 1 / A.x, both units started in the
-    /// same cycle; written together when the later one is done.
-    #[track_caller]
-    #[inline(always)]
-    pub fn roots(&mut self, st: u16, y: u8, a: u8) -> Written {
-        let at = Location::caller();
-        let x = self.read(a, X, at)[0];
-        let v = [fp::sqrt(x, self.sqrt), fp::recip(x, self.recip), 0.0];
-        self.retire(st, op::ROOTS, y, X | Y, v, at)
-    }
-
-    #[inline(always)]
-    fn unary(
-        &mut self,
-        st: u16,
-        code: u8,
-        y: u8,
-        a: u8,
-        lane: usize,
-        at: &'static Location<'static>,
-    ) -> Written {
-        let x = self.read(a, 1 << lane, at)[lane];
-        let r = if code == op::SQRT {
+    pub fn unary(&self, code: u8, x: f32) -> f32 {
+        if code == op::SQRT {
             fp::sqrt(x, self.sqrt)
         } else {
             fp::recip(x, self.recip)
-        };
-        let v = [r, 0.0, 0.0];
-        self.retire(st, code, y, X, v, at)
+        }
+    }
+
+    /// ROOTS: `<sqrt(x), 1 / x, 0>`, both units started in the same cycle.
+    #[inline(always)]
+    pub fn roots(&self, x: f32) -> Vec3f {
+        [fp::sqrt(x, self.sqrt), fp::recip(x, self.recip), 0.0]
     }
 }
 
 /// The latency of ROOTS: the later of its two units.
-pub const fn roots_latency(recip: Method, sqrt: Method) -> u32 {
+const fn roots_latency(recip: Method, sqrt: Method) -> u32 {
     let (r, s) = (fp::recip_latency(recip), fp::sqrt_latency(sqrt));
     if r > s {
         r
@@ -615,296 +228,9 @@ pub const fn roots_latency(recip: Method, sqrt: Method) -> u32 {
     }
 }
 
-/// A register's name for messages.
-fn name(code: u8) -> String {
-    isa::register_name(code).map_or_else(|| format!("r{code}"), str::to_string)
-}
-
-// The refusals, out of line: the instructions are inlined into the
-// controller, and their checks must cost a compare and a never-taken branch,
-// not the formatting of a message.
-
-#[cold]
-#[inline(never)]
-fn outside_the_stack(code: u8, sp: usize, at: &Location<'_>) -> ! {
-    panic!(
-        "{at}: {} at stack level {sp} is outside the stack",
-        name(code)
-    )
-}
-
-#[cold]
-#[inline(never)]
-fn unwritten_read(code: u8, a: u8, need: u8, valid: u8, at: &Location<'_>) -> ! {
-    panic!(
-        "{at}: reads lanes {need:03b} of {} ({}), but only {valid:03b} were loaded or written",
-        name(code),
-        name(a),
-    )
-}
-
-#[cold]
-#[inline(never)]
-fn scene_write(a: u8, at: &Location<'_>) -> ! {
-    panic!(
-        "{at}: writes scene register {} (read-only to the controller)",
-        name(a)
-    )
-}
-
-#[cold]
-#[inline(never)]
-fn bad_mask(mask: u8, at: &Location<'_>) -> ! {
-    panic!("{at}: lane mask {mask:03b}")
-}
-
-#[cold]
-#[inline(never)]
-fn unwritten_flag(i: usize, mask: u8) -> ! {
-    panic!("branching on lane {i}, which was not written (mask {mask:03b})")
-}
-
-#[cold]
-#[inline(never)]
-fn partly_written_signs(mask: u8) -> ! {
-    panic!("sign bits of a partly written vector (mask {mask:03b})")
-}
-
+// Out of line, as the core's refusals are (see there).
 #[cold]
 #[inline(never)]
 fn unwritten_f(at: &Location<'_>) -> ! {
     panic!("{at}: reads F before anything wrote it")
-}
-
-/// Lane masks with one lane each, by lane index.
-pub const LANE: [u8; 3] = [X, Y, Z];
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::micro::isa::state;
-
-    fn image(regs: &[(u8, Vec3)]) -> RegisterImage {
-        let mut img = RegisterImage {
-            bits: [[0; 3]; REGISTER_COUNT],
-            valid: [0; REGISTER_COUNT],
-        };
-        for &(a, v) in regs {
-            img.bits[a as usize] = v.map(f32::to_bits);
-            img.valid[a as usize] = XYZ;
-        }
-        img
-    }
-
-    fn core(img: &RegisterImage) -> Core<impl FnMut(&TraceEvent, &'static Location<'static>)> {
-        Core::new(img, 3, 4, Method::Exact, Method::Exact, |_, _| {})
-    }
-
-    const A: u8 = reg::EYE;
-    const B: u8 = reg::LIGHT_POS;
-    const S: u16 = state::PRI_HALF;
-
-    /// The core's layout holds exactly the image: every loaded register
-    /// reads back bit for bit, and nothing else is readable.
-    #[test]
-    fn the_core_holds_the_register_image_bit_for_bit() {
-        let mut img = image(&[]);
-        for a in 0..reg::T0 {
-            let v = [a, a + 1, a + 2].map(|i| f32::from(i) * -0.37);
-            img.bits[a as usize] = v.map(f32::to_bits);
-            img.valid[a as usize] = XYZ;
-        }
-        img.bits[reg::T0 as usize] = [1, 2, 3];
-        img.valid[reg::T0 as usize] = Y;
-        let c = core(&img);
-        for a in 0..REGISTER_COUNT as u8 {
-            let want = (img.valid[a as usize] == XYZ).then_some(img.bits[a as usize]);
-            assert_eq!(c.peek(a), want, "{}", name(a));
-        }
-        assert_eq!(c.read(reg::T0, Y, Location::caller())[1].to_bits(), 2);
-    }
-
-    #[test]
-    fn lanewise_ops_route_b_as_documented() {
-        let img = image(&[(A, [1.0, 2.0, 3.0]), (B, [10.0, 20.0, 30.0])]);
-        let mut c = core(&img);
-        let t = reg::T0;
-        assert_eq!(c.add(S, t, A, B, XYZ).value(), [11.0, 22.0, 33.0]);
-        assert_eq!(c.sub(S, t, A, B, XYZ).value(), [-9.0, -18.0, -27.0]);
-        assert_eq!(c.mul(S, t, A, B, XYZ).value(), [10.0, 40.0, 90.0]);
-        assert_eq!(c.nmul(S, t, A, B, XYZ).value(), [-10.0, -40.0, -90.0]);
-        assert_eq!(c.mulx(S, t, A, B, XYZ).value(), [10.0, 20.0, 30.0]);
-        assert_eq!(c.muly(S, t, A, B, XYZ).value(), [20.0, 40.0, 60.0]);
-        assert_eq!(c.mulz(S, t, A, B, XYZ).value(), [30.0, 60.0, 90.0]);
-        assert_eq!(c.nmulx(S, t, A, B, XYZ).value(), [-10.0, -20.0, -30.0]);
-        assert_eq!(c.mulr1(S, t, A, B, XYZ).value(), [20.0, 60.0, 30.0]);
-        assert_eq!(c.mulr2(S, t, A, B, XYZ).value(), [30.0, 20.0, 60.0]);
-        assert_eq!(c.mul2x(S, t, A, B, XYZ).value(), [20.0, 40.0, 60.0]);
-        assert_eq!(c.mov(S, t, A, XYZ).value(), [1.0, 2.0, 3.0]);
-        assert_eq!(c.neg(S, t, A, XYZ).value(), [-1.0, -2.0, -3.0]);
-        assert_eq!(c.itof(S, t).value(), [3.0, -4.0, 0.0]);
-        assert_eq!(c.stats.instructions(), 14);
-        assert_eq!(c.stats.register_writes, 14);
-    }
-
-    #[test]
-    fn masked_writes_keep_the_other_lanes() {
-        let img = image(&[(A, [1.0, 2.0, 3.0]), (B, [10.0, 20.0, 30.0])]);
-        let mut events = Vec::new();
-        {
-            let mut c = Core::new(
-                &img,
-                0,
-                0,
-                Method::Exact,
-                Method::Exact,
-                |e: &TraceEvent, _: &_| events.push(*e),
-            );
-            c.mov(S, reg::T1, A, XYZ);
-            c.add(S, reg::T1, A, B, Y | Z);
-            assert_eq!(c.read(reg::T1, XYZ, Location::caller()), [1.0, 22.0, 33.0]);
-        }
-        assert_eq!(events[1].lanes, 0b110);
-        assert_eq!(events[1].values, [0, 22f32.to_bits(), 33f32.to_bits()]);
-        assert_eq!(events[1].seq, 1);
-    }
-
-    #[test]
-    fn dot_product_sums_x_plus_y_then_z() {
-        let img = image(&[(A, [1.0, 2.0, 3.0]), (B, [4.0, 5.0, 6.0])]);
-        let mut c = core(&img);
-        c.dot1(S, A, B);
-        c.dot2(S);
-        assert_eq!(c.dot3(S, reg::T0).value()[0], 32.0);
-        assert_eq!(c.stats.count_of(OpClass::Dot), 3);
-        assert_eq!(c.stats.register_writes, 1);
-    }
-
-    /// Eq. 29/30 on values whose every sum and product is exact.
-    #[test]
-    fn the_intersection_sub_graph_computes_a_minus_b_dot_c_and_c_dot_d() {
-        let (b, cc, d, a) = (reg::EYE, reg::LIGHT_POS, reg::LIGHT_COL, reg::CAM_HALF);
-        let img = image(&[
-            (b, [1.0, 2.0, 3.0]),
-            (cc, [4.0, 5.0, 6.0]),
-            (d, [0.5, 0.25, 2.0]),
-            (a, [100.0, -7.0, -9.0]),
-        ]);
-        let mut c = core(&img);
-        c.isect1(S, b, cc);
-        let g = c.isect2(S, reg::T0, d, cc);
-        assert_eq!(g.value(), [2.0, 1.25, 12.0]);
-        c.isect3(S, reg::T0);
-        let y = c.isect4(S, reg::T1, a);
-        // a - b.c = 100 - 32; c.d = 2 + 1.25 + 12.
-        assert_eq!(y.value(), [68.0, 15.25, 0.0]);
-        assert_eq!(c.stats.register_writes, 2);
-    }
-
-    /// With rounding, lane x equals `a - DOT(b, c)` and lane y `DOT(c, d)`,
-    /// bit for bit.
-    #[test]
-    fn the_sub_graph_rounds_like_dot_and_sub() {
-        let (b, cc, d, a) = (reg::EYE, reg::LIGHT_POS, reg::LIGHT_COL, reg::CAM_HALF);
-        let vals = [
-            [0.1f32, -0.7, 1.3e3],
-            [3.3, 1e-3, -0.45],
-            [0.577, -0.577, 0.5773],
-            [2.2e4, 0.0, 0.0],
-        ];
-        let img = image(&[(b, vals[0]), (cc, vals[1]), (d, vals[2]), (a, vals[3])]);
-        let mut c = core(&img);
-        c.isect1(S, b, cc);
-        c.isect2(S, reg::T0, d, cc);
-        c.isect3(S, reg::T0);
-        let y = c.isect4(S, reg::T1, a).value();
-        c.dot1(S, b, cc);
-        c.dot2(S);
-        let bc = c.dot3(S, reg::T2);
-        let diff = c.sub(S, reg::T3, a, reg::T2, X).value()[0];
-        c.dot1(S, cc, d);
-        c.dot2(S);
-        let cd = c.dot3(S, reg::T4).value()[0];
-        assert!(bc.value()[0] != 0.0);
-        assert_eq!(y[0].to_bits(), diff.to_bits());
-        assert_eq!(y[1].to_bits(), cd.to_bits());
-    }
-
-    #[test]
-    fn multi_cycle_instructions_take_latency_plus_one_cycles() {
-        let img = image(&[(A, [4.0, 0.5, 0.0])]);
-        for m in Method::ALL {
-            let mut c = Core::new(&img, 0, 0, m, m, |_, _| {});
-            assert_eq!(c.sqrt(S, reg::T0, A).value()[0], 2.0);
-            assert_eq!(c.recip(S, reg::T0, A).value()[0], 0.25);
-            assert_eq!(c.recipy(S, reg::T0, A).value()[0], 2.0);
-            assert_eq!(c.roots(S, reg::T0, A).value(), [2.0, 0.25, 0.0]);
-            assert_eq!(
-                c.stats.instruction_cycles(),
-                u64::from(
-                    fp::sqrt_latency(m)
-                        + 1
-                        + 2 * (fp::recip_latency(m) + 1)
-                        + fp::sqrt_latency(m).max(fp::recip_latency(m))
-                        + 1
-                )
-            );
-        }
-    }
-
-    #[test]
-    #[should_panic(expected = "only 000 were loaded or written")]
-    fn reading_an_unwritten_register_is_refused() {
-        let img = image(&[]);
-        core(&img).mov(S, reg::T0, reg::T1, XYZ);
-    }
-
-    #[test]
-    #[should_panic(expected = "only 001 were loaded or written")]
-    fn reading_an_unwritten_lane_is_refused() {
-        let img = image(&[(A, [4.0, 0.0, 0.0])]);
-        let mut c = core(&img);
-        c.sqrt(S, reg::T0, A);
-        c.add(S, reg::T1, reg::T0, reg::T0, Y);
-    }
-
-    #[test]
-    #[should_panic(expected = "read-only")]
-    fn writing_a_scene_register_is_refused() {
-        let img = image(&[(A, [1.0; 3])]);
-        core(&img).mov(S, reg::EYE, A, XYZ);
-    }
-
-    #[test]
-    #[should_panic(expected = "outside the stack")]
-    fn the_parent_of_the_root_does_not_exist() {
-        let img = image(&[(A, [1.0; 3])]);
-        core(&img).mov(S, reg::PAR_O, A, XYZ);
-    }
-
-    #[test]
-    fn stack_relative_writes_land_in_the_decoded_level() {
-        let img = image(&[(A, [1.0; 3])]);
-        let mut dsts = Vec::new();
-        {
-            let mut c = Core::new(
-                &img,
-                0,
-                0,
-                Method::Exact,
-                Method::Exact,
-                |e: &TraceEvent, _: &_| dsts.push(e.dst),
-            );
-            c.sp = 2;
-            c.mov(S, reg::CUR_W, A, XYZ);
-            c.mov(S, reg::PAR_COL, A, XYZ);
-        }
-        assert_eq!(
-            dsts,
-            [
-                isa::stack(2, isa::RayField::W),
-                isa::stack(1, isa::RayField::Col)
-            ]
-        );
-    }
 }

@@ -422,6 +422,18 @@ pub fn generate(isa: &Isa, origin: &str) -> String {
         Kind::Dim,
         "usize",
     );
+    // The same codes typed, for the model's instructions: `Reg::EYE` is
+    // `Reg(reg::EYE)`.
+    let typed = |s: &mut String, ty: &str, module: &str, kind: Kind| {
+        *s += &format!("impl {ty} {{\n");
+        for d in isa.of(kind) {
+            *s += &doc(d);
+            *s += &format!("    pub const {0}: {ty} = {ty}({module}::{0});\n", d.name);
+        }
+        *s += "}\n\n";
+    };
+    typed(&mut s, "Reg", "reg", Kind::Reg);
+    typed(&mut s, "State", "state", Kind::St);
     let table = |s: &mut String, what: &str, name: &str, ty: &str, rows: Vec<(String, u32)>| {
         *s += &format!("/// {what}\npub const {name}: &[(&str, {ty})] = &[\n");
         for (n, v) in rows {

@@ -8,10 +8,12 @@
 //! sign-flipped (exact), except the bounding box, which is widened here
 //! (see [`bounding_box`]). The RTL harness loads these very bits.
 
-use super::alu::{RegisterImage, Vec3};
-use super::isa::{self, dim, reg, PlaneField, SphereField, REGISTER_COUNT};
+use super::core::RegisterImage;
+use super::isa::{self, dim, Lanes, PlaneField, Reg, SphereField, REGISTER_COUNT};
 use crate::fp::Method;
-use crate::scene::{Material, Scene, Speedups, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{
+    round_down, round_up, Material, Scene, Speedups, Vec3f, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
+};
 
 // The configuration word's fields (rtl/pp/isa.vh) fit in its 96 bits and
 // do not overlap; the coordinate ports hold every pixel of the largest image.
@@ -145,7 +147,7 @@ impl Config {
 /// f32 bits). Unused sphere and plane slots are not written.
 pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
     let d = &scene.derived;
-    let mut w: Vec<(u8, Vec3)> = Vec::new();
+    let mut w: Vec<(Reg, Vec3f)> = Vec::new();
     for (k, s) in scene.spheres.iter().enumerate() {
         let m = &s.material;
         w.push((isa::sphere(k, SphereField::C), s.center));
@@ -171,11 +173,11 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
             [m.diffuse, m.specular, m.reflection],
         ));
     }
-    w.push((reg::LIGHT_POS, scene.light.position));
-    w.push((reg::LIGHT_COL, scene.light.color));
-    w.push((reg::EYE, scene.camera.eye));
+    w.push((Reg::LIGHT_POS, scene.light.position));
+    w.push((Reg::LIGHT_COL, scene.light.color));
+    w.push((Reg::EYE, scene.camera.eye));
     w.push((
-        reg::CAM_HALF,
+        Reg::CAM_HALF,
         [-d.half_width, d.half_height, scene.camera.distance],
     ));
     for a in 0..3 {
@@ -196,11 +198,11 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
         let corner = [0, 1, 2].map(|i| if k >> i & 1 == 1 { hi[i] } else { lo[i] });
         w.push((isa::corner(k), corner));
     }
-    w.push((reg::ZERO, [0.0; 3]));
-    w.push((reg::ONE, [1.0; 3]));
+    w.push((Reg::ZERO, [0.0; 3]));
+    w.push((Reg::ONE, [1.0; 3]));
     w.sort_by_key(|&(a, _)| a);
     w.into_iter()
-        .map(|(a, v)| (a, v.map(f32::to_bits)))
+        .map(|(a, v)| (a.0, v.map(f32::to_bits)))
         .collect()
 }
 
@@ -219,7 +221,7 @@ pub const BOX_MARGIN_DIVISOR: f64 = 256.0;
 /// accept a ray passing up to ~4 * 2^-23 * |o| outside the sphere, which the
 /// exact box would refuse. The margin (1.95 units in the reference scene)
 /// covers origins up to ~4e6 units away; it costs a few more box hits.
-pub fn bounding_box(scene: &Scene) -> (Vec3, Vec3) {
+pub fn bounding_box(scene: &Scene) -> (Vec3f, Vec3f) {
     let d = &scene.derived;
     if scene.spheres.is_empty() {
         return (d.bbox_min, d.bbox_max);
@@ -229,34 +231,20 @@ pub fn bounding_box(scene: &Scene) -> (Vec3, Vec3) {
         .fold(0.0, f64::max);
     let margin = side / BOX_MARGIN_DIVISOR;
     (
-        [0, 1, 2].map(|i| toward_neg_inf(f64::from(d.bbox_min[i]) - margin)),
-        [0, 1, 2].map(|i| -toward_neg_inf(-(f64::from(d.bbox_max[i]) + margin))),
+        [0, 1, 2].map(|i| round_down(f64::from(d.bbox_min[i]) - margin)),
+        [0, 1, 2].map(|i| round_up(f64::from(d.bbox_max[i]) + margin)),
     )
-}
-
-/// The largest f32 <= x (x finite, within the f32 range).
-fn toward_neg_inf(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) <= x {
-        y
-    } else if y == 0.0 {
-        -f32::from_bits(1)
-    } else if y > 0.0 {
-        f32::from_bits(y.to_bits() - 1)
-    } else {
-        f32::from_bits(y.to_bits() + 1)
-    }
 }
 
 /// The register file after the scene port's writes.
 pub fn register_image(scene: &Scene) -> RegisterImage {
     let mut img = RegisterImage {
         bits: [[0; 3]; REGISTER_COUNT],
-        valid: [0; REGISTER_COUNT],
+        valid: [Lanes::NONE; REGISTER_COUNT],
     };
     for (a, v) in scene_writes(scene) {
         img.bits[a as usize] = v;
-        img.valid[a as usize] = 0b111;
+        img.valid[a as usize] = Lanes::XYZ;
     }
     img
 }
@@ -264,6 +252,7 @@ pub fn register_image(scene: &Scene) -> RegisterImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::micro::isa::reg;
 
     #[test]
     fn the_reference_scene_loads_every_scene_register_it_uses_once() {
@@ -276,9 +265,9 @@ mod tests {
         // 2 spheres, 2 planes, 4 light/camera, 6 rotation, 8 corners, 2 constants.
         assert_eq!(w.len(), 2 * 4 + 2 * 4 + 4 + 6 + 8 + 2);
         assert!(w.iter().all(|&(a, _)| a < reg::T0));
-        let at = |a: u8| {
+        let at = |a: Reg| {
             w.iter()
-                .find(|e| e.0 == a)
+                .find(|e| e.0 == a.0)
                 .expect("written")
                 .1
                 .map(f32::from_bits)
@@ -290,7 +279,7 @@ mod tests {
         // The back wall: z = 700 facing -: n = <0, 0, -1>, q = -700.
         assert_eq!(at(isa::plane(1, PlaneField::N)), [0.0, 0.0, -1.0]);
         assert_eq!(at(isa::plane(1, PlaneField::Q)), [-700.0, 0.0, 0.0]);
-        assert_eq!(at(reg::CAM_HALF), [-400.0, 300.0, 600.0]);
+        assert_eq!(at(Reg::CAM_HALF), [-400.0, 300.0, 600.0]);
         // The spheres span x -260..240, y 2..302, z 10..400: margin 500/256.
         let m = 500.0 / 256.0;
         assert_eq!(at(isa::corner(0)), [-260.0 - m, 2.0 - m, 10.0 - m]);

@@ -3,12 +3,17 @@
 //! 3.12: "one Verilog ALU instruction per line of code").
 //!
 //! - [`isa`]: opcodes, register addresses and FSM states, generated from
-//!   `rtl/pp/isa.vh`, the single source of truth shared with the RTL.
+//!   `rtl/pp/isa.vh`, the single source of truth shared with the RTL; the
+//!   typed [`Reg`](isa::Reg), [`State`](isa::State) and
+//!   [`Lanes`](isa::Lanes) the instructions take, and the labels of all
+//!   three.
 //! - [`loader`]: what the scene port writes (the scene registers) and the
 //!   controller's configuration.
-//! - [`alu`]: the core: register file, memory controller (CUR/PAR decoding
-//!   through the stack pointer), the ALU and its internal register F; one
-//!   method per instruction, each emitting the trace event of its write.
+//! - [`core`](mod@core): the core: register file, memory controller (CUR/PAR
+//!   decoding through the stack pointer) and the ALU controller; one method
+//!   per instruction, each emitting the trace event of its write.
+//! - [`alu`]: the ALU: what each opcode computes, its internal register F,
+//!   and the cycles each opcode takes.
 //! - [`program`]: the controller FSM, the per-pixel program.
 //! - [`stats`]: instruction and cycle counts per class.
 //!
@@ -42,6 +47,7 @@
 //! write emits exactly one, with the decoded (physical) address.
 
 pub mod alu;
+pub mod core;
 pub mod isa;
 #[cfg(test)]
 mod isa_parse;
@@ -49,13 +55,12 @@ pub mod loader;
 pub mod program;
 pub mod stats;
 
-pub use program::Object;
 pub use stats::{OpClass, OpStats};
 
+use self::core::{Core, LoadedImage};
 use crate::frame::Frame;
 use crate::scene::Scene;
 use crate::trace::TraceEvent;
-use alu::{Core, LoadedImage};
 use loader::Config;
 use rayon::prelude::*;
 use std::panic::Location;

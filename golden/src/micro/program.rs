@@ -19,49 +19,40 @@
 //! ray does not push, the stack unwinds, adding each ray's colour into its
 //! parent's. Only reflection rays exist, so the ray tree is a list.
 
-use super::alu::{lanes, Core, Vec3, Written, LANE};
-use super::isa::{self, reg, state as st, PlaneField, SphereField};
+use super::core::{Core, Written};
+use super::isa::{self, Lanes, PlaneField, Reg, SphereField, State};
 use super::loader::{Config, MaterialBits};
-use crate::scene::MAX_DEPTH;
+use crate::scene::{Object, Vec3f, MAX_DEPTH};
 use crate::trace::TraceEvent;
 use std::panic::Location;
-
-use lanes::{X, XYZ, Y};
 
 /// The temporaries' roles. Registers are shared between roles whose
 /// lifetimes never overlap (thesis 3.12: "limit the duration a value must be
 /// accessible").
 mod t {
-    use super::reg;
+    use super::Reg;
     /// Primary ray: camera-space direction. Shading: the hit point when no
     /// child ray is pushed (else it goes straight to CUR_O).
-    pub const P: u8 = reg::T0;
+    pub const P: Reg = Reg::T0;
     /// Rotation: cos products. Shading: the sphere normal.
-    pub const N: u8 = reg::T1;
+    pub const N: Reg = Reg::T1;
     /// Rotation: sin products. Shading: light - p, then the reflected
     /// direction when no child is pushed (else it goes to CUR_D).
-    pub const R: u8 = reg::T2;
+    pub const R: Reg = Reg::T2;
     /// The unit vector towards the light (the shadow ray's direction).
-    pub const L: u8 = reg::T3;
+    pub const L: Reg = Reg::T3;
     /// Normalize: v.v, then |v| (for the light vector: its distance).
-    pub const LEN: u8 = reg::T4;
+    pub const LEN: Reg = Reg::T4;
     /// Normalize: 1/|v|.
-    pub const INV: u8 = reg::T5;
+    pub const INV: Reg = Reg::T5;
     /// -t of the nearest hit so far.
-    pub const BEST: u8 = reg::T6;
+    pub const BEST: Reg = Reg::T6;
     /// Scratch of the tests and of shading.
-    pub const V: u8 = reg::T7;
-    pub const G: u8 = reg::T8;
-    pub const S: u8 = reg::T9;
-    pub const Q: u8 = reg::T10;
-    pub const U: u8 = reg::T11;
-}
-
-/// What a ray can hit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Object {
-    Sphere(usize),
-    Plane(usize),
+    pub const V: Reg = Reg::T7;
+    pub const G: Reg = Reg::T8;
+    pub const S: Reg = Reg::T9;
+    pub const Q: Reg = Reg::T10;
+    pub const U: Reg = Reg::T11;
 }
 
 /// The flags of the last ray direction written (NORM_SCALE, SH_REFL),
@@ -101,16 +92,16 @@ impl DirFlags {
 
 /// The registers of the ray being shaded and of its products.
 struct Shading {
-    o: u8,
-    d: u8,
-    col: u8,
-    w: u8,
+    o: Reg,
+    d: Reg,
+    col: Reg,
+    w: Reg,
     /// The level whose colour `col` is.
     level: usize,
     /// The hit point and reflected direction: the child's CUR_O and CUR_D
     /// when it is pushed, else temporaries.
-    p: u8,
-    r: u8,
+    p: Reg,
+    r: Reg,
 }
 
 /// One pixel's run of the controller.
@@ -138,7 +129,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     pub fn run(&mut self) -> [u32; 3] {
         self.primary_ray();
         let mut from = None;
-        while let Some(obj) = self.nearest_hit(reg::CUR_O, reg::CUR_D, from) {
+        while let Some(obj) = self.nearest_hit(Reg::CUR_O, Reg::CUR_D, from) {
             let push = self.bits(obj).reflective && self.core.sp + 1 < self.cfg.max_depth;
             if push {
                 self.core.sp += 1;
@@ -168,33 +159,34 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
     /// y.x = a.b (3 cycles).
     #[track_caller]
-    fn dot(&mut self, y: u8, a: u8, b: u8) -> Written {
-        self.core.dot1(st::DOT_1, a, b);
-        self.core.dot2(st::DOT_2);
-        self.core.dot3(st::DOT_3, y)
+    fn dot(&mut self, y: Reg, a: Reg, b: Reg) -> Written {
+        self.core.dot1(State::DOT_1, a, b);
+        self.core.dot2(State::DOT_2);
+        self.core.dot3(State::DOT_3, y)
     }
 
     /// y = v / |v|, leaving |v| in LEN.x, and latches y's direction flags
     /// (dot + ROOTS + 2 cycles).
     #[track_caller]
-    fn normalize(&mut self, y: u8, v: u8) -> Written {
+    fn normalize(&mut self, y: Reg, v: Reg) -> Written {
         self.dot(t::LEN, v, v);
         // |v| and 1/(v.v) at once, then 1/|v| = |v| * 1/(v.v): the square
         // root and the reciprocal overlap instead of following each other.
-        self.core.roots(st::NORM_ROOTS, t::LEN, t::LEN);
-        self.core.mulr1(st::NORM_INV, t::INV, t::LEN, t::LEN, X);
-        let w = self.core.mulx(st::NORM_SCALE, y, v, t::INV, XYZ);
+        self.core.roots(State::NORM_ROOTS, t::LEN, t::LEN);
+        self.core
+            .mulr1(State::NORM_INV, t::INV, t::LEN, t::LEN, Lanes::X);
+        let w = self.core.mulx(State::NORM_SCALE, y, v, t::INV, Lanes::XYZ);
         self.dir = DirFlags::of(&w);
         w
     }
 
     /// S = <a.x - b.c, c.d, 0> with g in G (4 cycles; see `alu`).
     #[track_caller]
-    fn isect(&mut self, b: u8, c: u8, d: u8, a: u8) -> Written {
-        self.core.isect1(st::ISECT_1, b, c);
-        self.core.isect2(st::ISECT_2, t::G, d, c);
-        self.core.isect3(st::ISECT_3, t::G);
-        self.core.isect4(st::ISECT_4, t::S, a)
+    fn isect(&mut self, b: Reg, c: Reg, d: Reg, a: Reg) -> Written {
+        self.core.isect1(State::ISECT_1, b, c);
+        self.core.isect2(State::ISECT_2, t::G, d, c);
+        self.core.isect3(State::ISECT_3, t::G);
+        self.core.isect4(State::ISECT_4, t::S, a)
     }
 
     // -----------------------------------------------------------------------
@@ -203,25 +195,25 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
     fn primary_ray(&mut self) {
         let c = &mut self.core;
-        c.itof(st::PRI_ITOF, t::P);
+        c.itof(State::PRI_ITOF, t::P);
         // <px - w/2, h/2 - py, distance>: exact (integers and halves).
-        c.add(st::PRI_HALF, t::P, t::P, reg::CAM_HALF, XYZ);
+        c.add(State::PRI_HALF, t::P, t::P, Reg::CAM_HALF, Lanes::XYZ);
         // About x, then y, then z: with (u, v) the two lanes that turn,
         // u' = u c - v s and v' = u s + v c.
         for a in 0..3 {
             if !self.cfg.rotate[a] {
                 continue;
             }
-            let (u, v) = (LANE[(a + 1) % 3], LANE[(a + 2) % 3]);
+            let (u, v) = (Lanes::lane((a + 1) % 3), Lanes::lane((a + 2) % 3));
             let (rc, rs) = isa::rot(a);
             let c = &mut self.core;
-            c.mul(st::ROT_COS, t::N, t::P, rc, XYZ);
-            c.mulr1(st::ROT_SIN_U, t::R, rs, t::P, u); // -s * v
-            c.mulr2(st::ROT_SIN_V, t::R, rs, t::P, v); // s * u
-            c.add(st::ROT_ADD, t::P, t::N, t::R, u | v);
+            c.mul(State::ROT_COS, t::N, t::P, rc, Lanes::XYZ);
+            c.mulr1(State::ROT_SIN_U, t::R, rs, t::P, u); // -s * v
+            c.mulr2(State::ROT_SIN_V, t::R, rs, t::P, v); // s * u
+            c.add(State::ROT_ADD, t::P, t::N, t::R, u | v);
         }
         // CUR_O and CUR_W at level 0 are EYE and ONE (isa::decode).
-        self.normalize(reg::CUR_D, t::P);
+        self.normalize(Reg::CUR_D, t::P);
     }
 
     // -----------------------------------------------------------------------
@@ -238,9 +230,14 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// a few ulps of |v|^2. From a wall point 2e7 away (a reflection grazing
     /// the wall), that error is ~1e8 and "hits" spheres the ray passes far
     /// from; |w| is good to a few ulps of |v|.
-    fn sphere_u(&mut self, k: usize, o: u8, d: u8, dst: u8) -> Option<Written> {
-        self.core
-            .sub(st::SPH_V, t::V, o, isa::sphere(k, SphereField::C), XYZ);
+    fn sphere_u(&mut self, k: usize, o: Reg, d: Reg, dst: Reg) -> Option<Written> {
+        self.core.sub(
+            State::SPH_V,
+            t::V,
+            o,
+            isa::sphere(k, SphereField::C),
+            Lanes::XYZ,
+        );
         // Q.x = b. With b >= 0 (or NaN) u = sqrt(disc) + b below is never
         // < 0 (a rounded sum of non-negative numbers), so the near root is
         // not ahead of the ray whatever disc is: the test ends here, and
@@ -249,10 +246,11 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             return None;
         }
         let c = &mut self.core;
-        c.nmulx(st::SPH_BD, t::U, d, t::Q, XYZ); // -b d
-        c.add(st::SPH_W, t::V, t::V, t::U, XYZ); // w = v - b d
-                                                 // The shared sub-graph with b = c = w, a = r*r: S.x = disc = r*r - w.w
-                                                 // (S.y = w.d, about 0, unused).
+        c.nmulx(State::SPH_BD, t::U, d, t::Q, Lanes::XYZ); // -b d
+        c.add(State::SPH_W, t::V, t::V, t::U, Lanes::XYZ); // w = v - b d
+
+        // The shared sub-graph with b = c = w, a = r*r: S.x = disc = r*r - w.w
+        // (S.y = w.d, about 0, unused).
         if self
             .isect(t::V, t::V, d, isa::sphere(k, SphereField::R))
             .neg(0)
@@ -260,15 +258,15 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             return None;
         }
         let c = &mut self.core;
-        c.sqrt(st::SPH_SQRT, t::S, t::S);
-        Some(c.add(st::SPH_T, dst, t::S, t::Q, X)) // sqrt(disc) + b = -t
+        c.sqrt(State::SPH_SQRT, t::S, t::S);
+        Some(c.add(State::SPH_T, dst, t::S, t::Q, Lanes::X)) // sqrt(disc) + b = -t
     }
 
     /// After `isect` left <q - n.o, n.d, 0> in S: u = -t = -(q - n.o)/(n.d)
     /// into `dst.x`.
-    fn plane_u(&mut self, dst: u8) -> Written {
-        self.core.recipy(st::PLN_RECIP, t::Q, t::S);
-        self.core.nmulx(st::PLN_T, dst, t::S, t::Q, X)
+    fn plane_u(&mut self, dst: Reg) -> Written {
+        self.core.recipy(State::PLN_RECIP, t::Q, t::S);
+        self.core.nmulx(State::PLN_T, dst, t::S, t::Q, Lanes::X)
     }
 
     /// Plane j against the ray (o, d) up to its t: `Some(u)` with u = -t in
@@ -278,7 +276,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// (the scene's precondition); without it, the sub-graph's n.d < 0 and
     /// the sign of u decide. n.d of an axis normal is exactly +-d[axis], so
     /// both decide facing alike, and t comes from the same instructions.
-    fn plane_u_checked(&mut self, j: usize, o: u8, d: u8, dst: u8) -> Option<(Written, bool)> {
+    fn plane_u_checked(&mut self, j: usize, o: Reg, d: Reg, dst: Reg) -> Option<(Written, bool)> {
         let fast = self.cfg.speedups.fast_plane;
         if fast
             && !self
@@ -310,27 +308,27 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// flips when d_i and d_j differ in sign). Only strict inequalities
     /// reject, and a zero lane of d makes its comparisons give way, so the
     /// test errs towards "hit".
-    fn box_hit(&mut self, o: u8, d: u8) -> bool {
+    fn box_hit(&mut self, o: Reg, d: Reg) -> bool {
         let s = self.dir.sign as usize;
         let c = &mut self.core;
         // The far corner first: a box behind the ray is refused after two
         // instructions instead of three.
-        c.sub(st::BOX_FAR, t::G, isa::corner(s ^ 7), o, XYZ);
-        let behind = c.mul(st::BOX_BEHIND, t::S, t::G, d, XYZ);
+        c.sub(State::BOX_FAR, t::G, isa::corner(s ^ 7), o, Lanes::XYZ);
+        let behind = c.mul(State::BOX_BEHIND, t::S, t::G, d, Lanes::XYZ);
         if (0..3).any(|i| behind.neg(i)) {
             return false;
         }
-        c.sub(st::BOX_NEAR, t::V, isa::corner(s), o, XYZ);
-        c.mulr1(st::BOX_P1, t::Q, t::V, d, XYZ); // N_i d_(i+1)
-        c.mulr1(st::BOX_Q1, t::U, d, t::G, XYZ); // d_i F_(i+1)
-        let d1 = c.sub(st::BOX_D1, t::Q, t::Q, t::U, XYZ);
+        c.sub(State::BOX_NEAR, t::V, isa::corner(s), o, Lanes::XYZ);
+        c.mulr1(State::BOX_P1, t::Q, t::V, d, Lanes::XYZ); // N_i d_(i+1)
+        c.mulr1(State::BOX_Q1, t::U, d, t::G, Lanes::XYZ); // d_i F_(i+1)
+        let d1 = c.sub(State::BOX_D1, t::Q, t::Q, t::U, Lanes::XYZ);
         if self.separated(&d1, 1) {
             return false;
         }
         let c = &mut self.core;
-        c.mulr2(st::BOX_P2, t::Q, t::V, d, XYZ); // N_i d_(i+2)
-        c.mulr2(st::BOX_Q2, t::U, d, t::G, XYZ); // d_i F_(i+2)
-        let d2 = c.sub(st::BOX_D2, t::Q, t::Q, t::U, XYZ);
+        c.mulr2(State::BOX_P2, t::Q, t::V, d, Lanes::XYZ); // N_i d_(i+2)
+        c.mulr2(State::BOX_Q2, t::U, d, t::G, Lanes::XYZ); // d_i F_(i+2)
+        let d2 = c.sub(State::BOX_D2, t::Q, t::Q, t::U, Lanes::XYZ);
         !self.separated(&d2, 2)
     }
 
@@ -359,7 +357,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
     /// The nearest object along (o, d) other than `from`, its -t left in
     /// BEST.x; ties go to the first in sphere-then-plane order.
-    fn nearest_hit(&mut self, o: u8, d: u8, from: Option<Object>) -> Option<Object> {
+    fn nearest_hit(&mut self, o: Reg, d: Reg, from: Option<Object>) -> Option<Object> {
         let mut best = None;
         let any_sphere = self.spheres_other_than(from) > 0;
         if any_sphere && (!self.cfg.speedups.bounding_box || self.box_hit(o, d)) {
@@ -395,8 +393,12 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             *best = Some(obj);
             return;
         }
-        if self.core.sub(st::HIT_CMP, t::G, t::U, t::BEST, X).pos(0) {
-            self.core.mov(st::HIT_KEEP, t::BEST, t::U, X);
+        if self
+            .core
+            .sub(State::HIT_CMP, t::G, t::U, t::BEST, Lanes::X)
+            .pos(0)
+        {
+            self.core.mov(State::HIT_KEEP, t::BEST, t::U, Lanes::X);
             *best = Some(obj);
         }
     }
@@ -408,7 +410,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// Whether an object other than `on` blocks the light from p: a hit at
     /// 0 < t < |light - p|. With shadow_shortcut (thesis 3.10.3) only
     /// spheres are tested and any t > 0 blocks.
-    fn shadowed(&mut self, p: u8, on: Object) -> bool {
+    fn shadowed(&mut self, p: Reg, on: Object) -> bool {
         let shortcut = self.cfg.speedups.shadow_shortcut;
         let any_sphere = self.spheres_other_than(Some(on)) > 0;
         if any_sphere && (!self.cfg.speedups.bounding_box || self.box_hit(p, t::L)) {
@@ -441,7 +443,9 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
     /// t < |light - p|, as |light - p| + u > 0 with u = -t in U.x.
     fn before_light(&mut self) -> bool {
-        self.core.add(st::SHD_DIST, t::G, t::U, t::LEN, X).pos(0)
+        self.core
+            .add(State::SHD_DIST, t::G, t::U, t::LEN, Lanes::X)
+            .pos(0)
     }
 
     // -----------------------------------------------------------------------
@@ -456,20 +460,20 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         let sp = self.core.sp;
         let ray = if push {
             Shading {
-                o: reg::PAR_O,
-                d: reg::PAR_D,
-                col: reg::PAR_COL,
-                w: reg::PAR_W,
+                o: Reg::PAR_O,
+                d: Reg::PAR_D,
+                col: Reg::PAR_COL,
+                w: Reg::PAR_W,
                 level: sp - 1,
-                p: reg::CUR_O,
-                r: reg::CUR_D,
+                p: Reg::CUR_O,
+                r: Reg::CUR_D,
             }
         } else {
             Shading {
-                o: reg::CUR_O,
-                d: reg::CUR_D,
-                col: reg::CUR_COL,
-                w: reg::CUR_W,
+                o: Reg::CUR_O,
+                d: Reg::CUR_D,
+                col: Reg::CUR_COL,
+                w: Reg::CUR_W,
                 level: sp,
                 p: t::P,
                 r: t::R,
@@ -491,27 +495,27 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
         // p = o + t d, with t d = -(d * u_best).
         let c = &mut self.core;
-        c.nmulx(st::SH_OFFSET, t::V, ray.d, t::BEST, XYZ);
-        c.add(st::SH_POINT, ray.p, ray.o, t::V, XYZ);
+        c.nmulx(State::SH_OFFSET, t::V, ray.d, t::BEST, Lanes::XYZ);
+        c.add(State::SH_POINT, ray.p, ray.o, t::V, Lanes::XYZ);
         if let Object::Sphere(k) = obj {
             // n = (p - c) * 1/r (thesis eq. 28).
             c.sub(
-                st::SH_NORMAL_SUB,
+                State::SH_NORMAL_SUB,
                 t::N,
                 ray.p,
                 isa::sphere(k, SphereField::C),
-                XYZ,
+                Lanes::XYZ,
             );
             c.muly(
-                st::SH_NORMAL_SCALE,
+                State::SH_NORMAL_SCALE,
                 t::N,
                 t::N,
                 isa::sphere(k, SphereField::R),
-                XYZ,
+                Lanes::XYZ,
             );
         }
         self.core
-            .sub(st::SH_LIGHT_VEC, t::R, reg::LIGHT_POS, ray.p, XYZ);
+            .sub(State::SH_LIGHT_VEC, t::R, Reg::LIGHT_POS, ray.p, Lanes::XYZ);
         self.normalize(t::L, t::R);
         let lit = !self.shadowed(ray.p, obj);
 
@@ -519,9 +523,9 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         let mut diffuse = None;
         if lit && bits.diffuse && self.dot(t::V, n, t::L).pos(0) {
             let c = &mut self.core;
-            c.mulx(st::SH_KD, t::G, mat, t::V, X);
-            c.mul(st::SH_CL, t::S, colour, reg::LIGHT_COL, XYZ);
-            c.mulx(st::SH_DIFFUSE, t::S, t::S, t::G, XYZ);
+            c.mulx(State::SH_KD, t::G, mat, t::V, Lanes::X);
+            c.mul(State::SH_CL, t::S, colour, Reg::LIGHT_COL, Lanes::XYZ);
+            c.mulx(State::SH_DIFFUSE, t::S, t::S, t::G, Lanes::XYZ);
             diffuse = Some(t::S);
         }
 
@@ -530,8 +534,8 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         if push || (lit && bits.specular) {
             self.dot(t::Q, ray.d, n);
             let c = &mut self.core;
-            c.mul2x(st::SH_REFL_K, t::U, n, t::Q, XYZ); // k = 2 (d.n) n
-            let r = c.sub(st::SH_REFL, ray.r, ray.d, t::U, XYZ);
+            c.mul2x(State::SH_REFL_K, t::U, n, t::Q, Lanes::XYZ); // k = 2 (d.n) n
+            let r = c.sub(State::SH_REFL, ray.r, ray.d, t::U, Lanes::XYZ);
             self.dir = DirFlags::of(&r);
         }
 
@@ -539,30 +543,31 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         let mut specular = None;
         if lit && bits.specular && self.dot(t::Q, ray.r, t::L).pos(0) {
             let c = &mut self.core;
-            c.mul(st::SH_POW2, t::U, t::Q, t::Q, X);
-            c.mul(st::SH_POW4, t::U, t::U, t::U, X);
-            c.mul(st::SH_POW5, t::U, t::U, t::Q, X);
-            c.mul(st::SH_POW10, t::U, t::U, t::U, X);
-            c.mul(st::SH_POW20, t::U, t::U, t::U, X);
-            c.mulx(st::SH_KS, t::V, mat, t::U, Y); // V.y = ks * x^20
-            c.muly(st::SH_SPEC, t::G, reg::LIGHT_COL, t::V, XYZ);
+            c.mul(State::SH_POW2, t::U, t::Q, t::Q, Lanes::X);
+            c.mul(State::SH_POW4, t::U, t::U, t::U, Lanes::X);
+            c.mul(State::SH_POW5, t::U, t::U, t::Q, Lanes::X);
+            c.mul(State::SH_POW10, t::U, t::U, t::U, Lanes::X);
+            c.mul(State::SH_POW20, t::U, t::U, t::U, Lanes::X);
+            c.mulx(State::SH_KS, t::V, mat, t::U, Lanes::Y); // V.y = ks * x^20
+            c.muly(State::SH_SPEC, t::G, Reg::LIGHT_COL, t::V, Lanes::XYZ);
             specular = Some(t::G);
         }
 
         let local = match (diffuse, specular) {
             (Some(a), Some(b)) => {
-                self.core.add(st::SH_LOCAL, t::S, a, b, XYZ);
+                self.core.add(State::SH_LOCAL, t::S, a, b, Lanes::XYZ);
                 Some(t::S)
             }
             (a, b) => a.or(b),
         };
         if let Some(local) = local {
-            self.core.mul(st::SH_COLOUR, ray.col, local, ray.w, XYZ);
+            self.core
+                .mul(State::SH_COLOUR, ray.col, local, ray.w, Lanes::XYZ);
             self.coloured[ray.level] = true;
         }
         if push {
             self.core
-                .mulz(st::SH_CHILD_W, reg::CUR_W, reg::PAR_W, mat, XYZ);
+                .mulz(State::SH_CHILD_W, Reg::CUR_W, Reg::PAR_W, mat, Lanes::XYZ);
         }
     }
 
@@ -575,22 +580,29 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             let sp = self.core.sp;
             if self.coloured[sp] {
                 if self.coloured[sp - 1] {
-                    self.core
-                        .add(st::POP_ADD, reg::PAR_COL, reg::PAR_COL, reg::CUR_COL, XYZ);
+                    self.core.add(
+                        State::POP_ADD,
+                        Reg::PAR_COL,
+                        Reg::PAR_COL,
+                        Reg::CUR_COL,
+                        Lanes::XYZ,
+                    );
                 } else {
-                    self.core.mov(st::POP_MOV, reg::PAR_COL, reg::CUR_COL, XYZ);
+                    self.core
+                        .mov(State::POP_MOV, Reg::PAR_COL, Reg::CUR_COL, Lanes::XYZ);
                     self.coloured[sp - 1] = true;
                 }
             }
             self.core.sp -= 1;
         }
         if !self.coloured[0] {
-            self.core.mov(st::ROOT_BLACK, reg::CUR_COL, reg::ZERO, XYZ);
+            self.core
+                .mov(State::ROOT_BLACK, Reg::CUR_COL, Reg::ZERO, Lanes::XYZ);
         }
     }
 }
 
 /// The colour as f32 lanes.
-pub fn rgb_of(bits: [u32; 3]) -> Vec3 {
+pub fn rgb_of(bits: [u32; 3]) -> Vec3f {
     bits.map(f32::from_bits)
 }

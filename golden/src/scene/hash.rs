@@ -1,0 +1,80 @@
+//! The scene's content hash: a stable identity for trace files.
+
+use super::types::{Material, Vec3f};
+use super::Scene;
+
+/// A stable 64-bit FNV-1a hash of every number of the scene (the bits of
+/// the f32s, the integers, the settings) in a fixed order.
+pub(super) fn content_hash(scene: &Scene) -> u64 {
+    let mut h = Fnv1a::new();
+    h.bytes(b"rtcosim-scene-v1");
+    let c = &scene.camera;
+    h.vec(c.eye);
+    h.vec(c.rotation_deg);
+    h.f32(c.distance);
+    h.u32(c.width);
+    h.u32(c.height);
+    h.vec(scene.light.position);
+    h.vec(scene.light.color);
+    h.u32(scene.spheres.len() as u32);
+    for s in &scene.spheres {
+        h.vec(s.center);
+        h.f32(s.radius);
+        h.material(&s.material);
+    }
+    h.u32(scene.planes.len() as u32);
+    for p in &scene.planes {
+        h.u32(p.axis.index() as u32);
+        h.f32(p.facing);
+        h.f32(p.offset);
+        h.material(&p.material);
+    }
+    let r = &scene.render;
+    h.u32(r.max_depth);
+    h.bytes(&[
+        u8::from(r.speedups.bounding_box),
+        u8::from(r.speedups.fast_plane),
+        u8::from(r.speedups.shadow_shortcut),
+    ]);
+    h.u32(r.recip.code());
+    h.u32(r.sqrt.code());
+    h.finish()
+}
+
+struct Fnv1a(u64);
+
+impl Fnv1a {
+    fn new() -> Fnv1a {
+        Fnv1a(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    fn u32(&mut self, x: u32) {
+        self.bytes(&x.to_le_bytes());
+    }
+
+    fn f32(&mut self, x: f32) {
+        self.u32(x.to_bits());
+    }
+
+    fn vec(&mut self, v: Vec3f) {
+        v.iter().for_each(|&x| self.f32(x));
+    }
+
+    fn material(&mut self, m: &Material) {
+        self.vec(m.color);
+        self.f32(m.diffuse);
+        self.f32(m.specular);
+        self.f32(m.reflection);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}

@@ -1,0 +1,182 @@
+//! Scenes: the TOML scene file, its validation, and the constants derived
+//! from it once for every model.
+//!
+//! A scene is a camera, one point light, up to [`MAX_SPHERES`] spheres and up
+//! to [`MAX_PLANES`] axis-aligned planes, plus the render settings (ray stack
+//! depth, the speed-ups of thesis section 3.10, the float unit methods).
+//!
+//! Numbers are read from TOML as f64 and rounded to f32 exactly once, here.
+//! The f32 values *are* the scene: the RTL, the micro-op model and the f64
+//! reference renderer (which widens them back, exactly) all see the same
+//! numbers. Constants the hardware needs precomputed ([`Derived`]: 1/r, r²,
+//! cos/sin of the camera angles, ...) are also computed once, here, so that no
+//! two consumers can round them differently.
+//!
+//! ```toml
+//! [camera]
+//! eye = [0.0, 100.0, -400.0]
+//! rotation = [0.0, 0.0, 0.0]   # degrees about x, then y, then z (optional)
+//! distance = 600.0             # eye to image plane, in pixels
+//! width = 800
+//! height = 600
+//!
+//! [light]
+//! position = [-300.0, 600.0, -300.0]
+//! color = [1.0, 1.0, 1.0]
+//!
+//! [[sphere]]
+//! center = [0.0, 100.0, 150.0]
+//! radius = 100.0
+//! color = [0.9, 0.3, 0.2]
+//! diffuse = 0.5
+//! specular = 0.5
+//! reflection = 0.4
+//!
+//! [[plane]]
+//! axis = "y"      # the plane is { p : p[axis] = offset }
+//! facing = "+"    # normal = facing * unit(axis): the visible, lit side
+//! offset = 0.0
+//! color = [0.8, 0.8, 0.8]
+//! diffuse = 0.5
+//! specular = 0.0
+//! reflection = 0.4
+//!
+//! [render]        # optional; these are the defaults
+//! max_depth = 4
+//! bounding_box = false
+//! fast_plane = false
+//! shadow_shortcut = false
+//! recip = "exact"
+//! sqrt = "exact"
+//! ```
+//!
+//! Unknown keys are errors everywhere, and every error names the file and the
+//! field (`scene.toml: sphere[1].radius: must be > 0, got -3`).
+//!
+//! By job:
+//!
+//! - [`Scene`] (here): the validated scene and every way to make one.
+//! - `types`: its parts ([`Camera`], [`Light`], [`Sphere`], [`Plane`],
+//!   [`Material`], [`RenderSettings`]), [`Object`], [`Vec3f`] and the RTL's
+//!   limits.
+//! - `file`: the file format, TOML text to the unchecked raw scene.
+//! - `validate`: the one path from an unchecked scene, read from a file or
+//!   built in code, to a [`Scene`]; every rule is checked there, once.
+//! - `builtin`: the scenes embedded in the binary.
+//! - `derived`: the constants computed once from a valid scene ([`Derived`]).
+//! - `hash`: [`Scene::content_hash`], the identity trace files record.
+//! - `error`: [`SceneError`].
+
+mod builtin;
+mod derived;
+mod error;
+mod file;
+mod hash;
+mod types;
+mod validate;
+
+pub use derived::Derived;
+pub(crate) use derived::{round_down, round_up};
+pub use error::SceneError;
+pub(crate) use types::dvec;
+pub use types::{
+    Axis, Camera, Light, Material, Object, Plane, RenderSettings, Speedups, Sphere, Vec3f,
+    MAX_DEPTH, MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
+};
+
+use file::RawScene;
+use std::path::Path;
+
+/// A validated scene. Build it with [`Scene::from_toml`], [`Scene::load`],
+/// [`Scene::builtin`] or [`Scene::new`]: each checks every rule of
+/// `validate`, so a `Scene` is always renderable by every model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub camera: Camera,
+    pub light: Light,
+    pub spheres: Vec<Sphere>,
+    pub planes: Vec<Plane>,
+    pub render: RenderSettings,
+    pub derived: Derived,
+}
+
+impl Scene {
+    /// Parses and validates a scene file's text. `origin` names the file in
+    /// errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        validate::scene(&RawScene::parse(text, origin)?, origin)
+    }
+
+    /// Reads, parses and validates a scene file; errors name `path`.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = file::read(path)?;
+        Scene::from_toml(&text, &path.display().to_string())
+    }
+
+    /// A scene embedded in the binary: "reference", "mirror", or a stress
+    /// scene by file stem (see [`Scene::builtin_names`]).
+    pub fn builtin(name: &str) -> Option<Scene> {
+        let text = builtin::text(name)?;
+        Scene::from_toml(text, &format!("{name}.toml")).ok()
+    }
+
+    /// Names [`Scene::builtin`] accepts.
+    pub fn builtin_names() -> &'static [&'static str] {
+        &builtin::NAMES
+    }
+
+    /// The thesis' selected scene (800x600, two spheres, a floor and a back
+    /// wall, stack depth 4, all speed-ups on).
+    pub fn reference() -> Scene {
+        Scene::builtin("reference")
+            .expect("the embedded reference scene is valid (a test loads it)")
+    }
+
+    /// Validates a scene built in code, exactly as a file with these
+    /// numbers would be, and computes its [`Derived`] constants. `origin`
+    /// names the scene in errors.
+    pub fn new(
+        origin: &str,
+        camera: Camera,
+        light: Light,
+        spheres: Vec<Sphere>,
+        planes: Vec<Plane>,
+        render: RenderSettings,
+    ) -> Result<Scene, SceneError> {
+        let raw = RawScene::from_parts(&camera, &light, &spheres, &planes, &render);
+        validate::scene(&raw, origin)
+    }
+
+    /// The same scene at another image size. The image-plane distance scales
+    /// with the width (`distance * width / old width`, rounded to f32), so the
+    /// horizontal field of view stays the same. `origin` names the request in
+    /// errors (e.g. "--size").
+    pub fn resized(&self, width: u32, height: u32, origin: &str) -> Result<Scene, SceneError> {
+        let mut camera = self.camera.clone();
+        camera.distance =
+            (f64::from(camera.distance) * f64::from(width) / f64::from(camera.width)) as f32;
+        camera.width = width;
+        camera.height = height;
+        Scene::new(
+            origin,
+            camera,
+            self.light.clone(),
+            self.spheres.clone(),
+            self.planes.clone(),
+            self.render,
+        )
+    }
+
+    /// Total number of pixels.
+    pub fn pixel_count(&self) -> u64 {
+        u64::from(self.camera.width) * u64::from(self.camera.height)
+    }
+
+    /// A stable 64-bit FNV-1a hash of every number of the scene (the bits of
+    /// the f32s, the integers, the settings) in a fixed order. Equal scenes
+    /// hash equal on every platform and in every version that keeps the
+    /// encoding tag; trace files record it to detect a foreign scene.
+    pub fn content_hash(&self) -> u64 {
+        hash::content_hash(self)
+    }
+}

@@ -1,0 +1,165 @@
+//! The parts of a scene, as every model sees them: f32 numbers (the values
+//! the hardware holds), already validated when they sit in a
+//! [`Scene`](super::Scene).
+
+use crate::fp::Method;
+use glam::DVec3;
+use std::fmt;
+
+/// Spheres the RTL's scene memory holds.
+pub const MAX_SPHERES: usize = 8;
+/// Planes the RTL's scene memory holds.
+pub const MAX_PLANES: usize = 6;
+/// Deepest ray stack the RTL can be built with: generations of open-air rays
+/// (1 = primary rays only, no reflections).
+pub const MAX_DEPTH: u32 = 8;
+/// Largest image width or height, in pixels (pixel coordinates are 12 bits).
+pub const MAX_IMAGE_SIDE: u32 = 4096;
+
+/// Three f32 lanes x, y, z: a point, direction or RGB colour as the hardware
+/// holds it, and a register of the pixel processor. (The f64 reference
+/// renderer widens these, exactly, to [`glam::DVec3`].)
+pub type Vec3f = [f32; 3];
+
+/// `v` widened to f64, exactly.
+pub(crate) fn dvec(v: Vec3f) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+/// The eye and its image plane (thesis 3.5).
+///
+/// The ray through pixel (px, py), py = 0 at the top, has the camera-space
+/// direction `(px - width/2, height/2 - py, distance)`, rotated by
+/// `Rz * Ry * Rx` (angles `rotation_deg`, right-handed rotations as in the
+/// thesis' equation 13), then normalized.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    /// Origin of every primary ray.
+    pub eye: Vec3f,
+    /// Rotation about x, then y, then z, in degrees.
+    pub rotation_deg: Vec3f,
+    /// Distance from the eye to the image plane, in pixels (> 0); sets the
+    /// field of view.
+    pub distance: f32,
+    /// Image width in pixels, 1..=[`MAX_IMAGE_SIDE`].
+    pub width: u32,
+    /// Image height in pixels, 1..=[`MAX_IMAGE_SIDE`].
+    pub height: u32,
+}
+
+/// The single point light (thesis 3.10.3: "infinitesimal").
+#[derive(Debug, Clone, PartialEq)]
+pub struct Light {
+    pub position: Vec3f,
+    /// RGB, each channel in [0, 1].
+    pub color: Vec3f,
+}
+
+/// Surface properties (thesis 3.4): every value in [0, 1].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// RGB; scales the diffuse term only (specular light has the light's colour).
+    pub color: Vec3f,
+    /// Weight of the diffuse term `n·l`.
+    pub diffuse: f32,
+    /// Weight of the specular term `(r·l)^20`.
+    pub specular: f32,
+    /// Weight of the reflected ray's colour.
+    pub reflection: f32,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3f,
+    /// > 0.
+    pub radius: f32,
+    pub material: Material,
+}
+
+/// A coordinate axis; planes are perpendicular to one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2: the vector component this axis selects.
+    pub const fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// "x", "y" or "z", as in scene files.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Axis::X => "x",
+            Axis::Y => "y",
+            Axis::Z => "z",
+        }
+    }
+}
+
+impl fmt::Display for Axis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The infinite, one-sided plane `{ p : p[axis] = offset }`.
+///
+/// Its normal is `facing * unit(axis)`; only rays travelling against the
+/// normal (coming from the normal side) hit it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plane {
+    pub axis: Axis,
+    /// +1.0 or -1.0.
+    pub facing: f32,
+    pub offset: f32,
+    pub material: Material,
+}
+
+impl Plane {
+    /// `facing * unit(axis)`, with +0.0 in the other components.
+    pub fn normal(&self) -> Vec3f {
+        let mut n = [0.0; 3];
+        n[self.axis.index()] = self.facing;
+        n
+    }
+}
+
+/// One of the scene's objects, by kind and index into the scene's `spheres`
+/// or `planes`: what a ray hits, and what a secondary ray leaves from (and so
+/// does not test). Every model names objects this way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Object {
+    Sphere(usize),
+    Plane(usize),
+}
+
+/// The speed-ups of thesis 3.10. None of them may change the image: the
+/// scene is validated against each one's precondition when it is switched on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Speedups {
+    /// 3.10.1: test the spheres only if the ray hits the box around them.
+    pub bounding_box: bool,
+    /// 3.10.2: a plane is hit iff the ray's direction opposes its normal.
+    pub fast_plane: bool,
+    /// 3.10.3: shadow rays ignore planes, and any sphere hit at t > 0 blocks.
+    pub shadow_shortcut: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderSettings {
+    /// Ray stack depth: generations of open-air rays, 1..=[`MAX_DEPTH`].
+    pub max_depth: u32,
+    pub speedups: Speedups,
+    /// Method of the RTL's reciprocal unit.
+    pub recip: Method,
+    /// Method of the RTL's square-root unit.
+    pub sqrt: Method,
+}
