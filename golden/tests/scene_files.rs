@@ -300,7 +300,89 @@ fn a_radius_whose_square_overflows_f32_is_refused() {
     assert_refused(
         &edit(BASE, "radius = 1.0", "radius = 1e20"),
         "sphere[0].radius",
-        "r² and 1/r",
+        "MAX_RADIUS = 2^60",
+    );
+}
+
+/// The magnitude limits (docs/scenes.md): each boundary is accepted, the
+/// next f32 past it is refused, naming the file, the field and the limit.
+#[test]
+fn magnitudes_past_the_limits_are_refused_naming_field_and_limit() {
+    let max = 1.152921504606846976e18; // 2^60
+    let past_max = 1.1529216e18; // the next f32 above 2^60
+    let min = 8.673617379884035e-19; // 2^-60
+    let below_min = 8.673616e-19; // the f32 below 2^-60
+    let cases: [(&str, &str, &str, &str); 6] = [
+        (
+            "eye = [0.0, 1.0, -10.0]",
+            "eye = [0.0, {}, -10.0]",
+            "camera.eye[1]",
+            "MAX_COORD",
+        ),
+        (
+            "center = [0.0, 1.0, 0.0]",
+            "center = [{}, 1.0, 0.0]",
+            "sphere[0].center[0]",
+            "MAX_COORD",
+        ),
+        (
+            "position = [0.0, 10.0, -10.0]",
+            "position = [0.0, 10.0, {}]",
+            "light.position[2]",
+            "MAX_COORD",
+        ),
+        (
+            "radius = 1.0",
+            "radius = {}",
+            "sphere[0].radius",
+            "MAX_RADIUS",
+        ),
+        (
+            "distance = 100.0",
+            "distance = {}",
+            "camera.distance",
+            "MAX_DISTANCE",
+        ),
+        (
+            "offset = -1.0",
+            "offset = -{}",
+            "plane[0].offset",
+            "MAX_COORD",
+        ),
+    ];
+    for (from, to, field, limit) in cases {
+        assert!(BASE.contains(from), "{from}");
+        let at = |v: f64| edit(BASE, from, &to.replace("{}", &format!("{v:e}")));
+        Scene::from_toml(&at(max), "t.toml")
+            .unwrap_or_else(|e| panic!("{field} = 2^60 is accepted: {e}"));
+        assert_refused(&at(past_max), field, limit);
+    }
+    for (from, to, field, limit) in [
+        (
+            "radius = 1.0",
+            "radius = {}",
+            "sphere[0].radius",
+            "MIN_RADIUS",
+        ),
+        (
+            "distance = 100.0",
+            "distance = {}",
+            "camera.distance",
+            "MIN_DISTANCE",
+        ),
+    ] {
+        let at = |v: f64| edit(BASE, from, &to.replace("{}", &format!("{v:e}")));
+        Scene::from_toml(&at(min), "t.toml")
+            .unwrap_or_else(|e| panic!("{field} = 2^-60 is accepted: {e}"));
+        assert_refused(&at(below_min), field, limit);
+    }
+    // The issue's example: an image plane at 1e-38 would underflow the
+    // centre pixel's normalization.
+    let err = refusal(&edit(BASE, "distance = 100.0", "distance = 1e-38"));
+    assert_eq!(
+        err.to_string(),
+        "t.toml: camera.distance: must be in [8.6736174e-19, 1.1529215e18] \
+         (MIN_DISTANCE = 2^-60 to MAX_DISTANCE = 2^60: docs/scenes.md), got 1e-38"
     );
 }
 

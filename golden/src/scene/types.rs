@@ -16,6 +16,28 @@ pub const MAX_DEPTH: u32 = 8;
 /// Largest image width or height, in pixels (pixel coordinates are 12 bits).
 pub const MAX_IMAGE_SIDE: u32 = 4096;
 
+/// Largest magnitude of a coordinate: every component of the eye, the
+/// light and the sphere centres, and every plane offset, is in
+/// `[-MAX_COORD, MAX_COORD]`, 2^60 (about 1.15e18). With sphere radii up
+/// to [`MAX_RADIUS`], every point the program subtracts lies within 2^61 of
+/// the origin, every difference within 2^62, and the largest dot product,
+/// `v·v` of such a difference, below 3 * 2^124 < 2^128: it cannot overflow
+/// f32. docs/scenes.md has the derivation.
+pub const MAX_COORD: f32 = (1u64 << 60) as f32;
+/// Largest sphere radius, 2^60: `r²` <= 2^120.
+pub const MAX_RADIUS: f32 = (1u64 << 60) as f32;
+/// Smallest sphere radius, 2^-60 (about 8.7e-19): `r²` >= 2^-120 is a
+/// normal f32, so the sphere test's `r² - w·w` keeps its precision, and
+/// `1/r` <= 2^60.
+pub const MIN_RADIUS: f32 = 1.0 / (1u64 << 60) as f32;
+/// Largest image-plane distance, 2^60: a primary direction's `v·v` <=
+/// 2^120 + 2 * 2^22.
+pub const MAX_DISTANCE: f32 = (1u64 << 60) as f32;
+/// Smallest image-plane distance, 2^-60: the primary direction of the
+/// centre pixel is `distance` times a unit vector, so `v·v` >= 2^-120 stays
+/// a normal f32 and its normalization cannot underflow.
+pub const MIN_DISTANCE: f32 = 1.0 / (1u64 << 60) as f32;
+
 /// Three f32 lanes x, y, z: a point, direction or RGB colour as the hardware
 /// holds it, and a register of the pixel processor. (The f64 reference
 /// renderer widens these, exactly, to [`glam::DVec3`].)

@@ -6,8 +6,10 @@
 //!    message about the count), then every number finite and within the f32
 //!    range, rounded to f32 here, exactly once; the image sides and the
 //!    stack depth within the RTL's limits.
-//! 2. The rules on the f32 values: ranges, at least one object, and what
-//!    the RTL precomputes (r², 1/r) finite.
+//! 2. The rules on the f32 values: ranges (the magnitude limits that keep
+//!    every product of the program finite: [`MAX_COORD`], the radius and
+//!    distance limits), at least one object, and what the RTL precomputes
+//!    (r², 1/r) finite.
 //! 3. The precondition of each speed-up that is switched on.
 //!
 //! The first broken rule is the error; it names the field.
@@ -16,8 +18,9 @@ use super::derived::Derived;
 use super::error::SceneError;
 use super::file::{RawCamera, RawLight, RawPlane, RawRender, RawScene, RawSphere};
 use super::types::{
-    dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_DEPTH,
-    MAX_IMAGE_SIDE, MAX_PLANES, MAX_SPHERES,
+    dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_COORD,
+    MAX_DEPTH, MAX_DISTANCE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE,
+    MIN_RADIUS,
 };
 use super::Scene;
 use glam::DVec3;
@@ -212,17 +215,56 @@ impl Check<'_> {
         Ok(())
     }
 
+    /// `x` in `[lo, hi]`, named with the limits' names.
+    fn within(
+        &self,
+        field: &str,
+        x: f32,
+        lo: f32,
+        hi: f32,
+        limits: &str,
+    ) -> Result<(), SceneError> {
+        if (lo..=hi).contains(&x) {
+            Ok(())
+        } else {
+            Err(self.fail(
+                field,
+                format!("must be in [{lo:e}, {hi:e}] ({limits}: docs/scenes.md), got {x:e}"),
+            ))
+        }
+    }
+
+    /// A coordinate within [`MAX_COORD`].
+    fn coord(&self, field: &str, x: f32) -> Result<(), SceneError> {
+        self.within(field, x, -MAX_COORD, MAX_COORD, "±MAX_COORD = ±2^60")
+    }
+
+    fn point(&self, field: &str, v: Vec3f) -> Result<(), SceneError> {
+        for (i, &x) in v.iter().enumerate() {
+            self.coord(&format!("{field}[{i}]"), x)?;
+        }
+        Ok(())
+    }
+
     fn camera(&self, c: &Camera) -> Result<(), SceneError> {
+        self.point("camera.eye", c.eye)?;
         if c.distance <= 0.0 {
             return Err(self.fail(
                 "camera.distance",
                 format!("must be > 0, got {}", c.distance),
             ));
         }
-        Ok(())
+        self.within(
+            "camera.distance",
+            c.distance,
+            MIN_DISTANCE,
+            MAX_DISTANCE,
+            "MIN_DISTANCE = 2^-60 to MAX_DISTANCE = 2^60",
+        )
     }
 
     fn light(&self, l: &Light) -> Result<(), SceneError> {
+        self.point("light.position", l.position)?;
         self.unit_vec("light.color", l.color)
     }
 
@@ -242,21 +284,24 @@ impl Check<'_> {
         }
         for (i, s) in spheres.iter().enumerate() {
             let at = format!("sphere[{i}]");
+            self.point(&format!("{at}.center"), s.center)?;
             let field = format!("{at}.radius");
             if s.radius <= 0.0 {
                 return Err(self.fail(field, format!("must be > 0, got {}", s.radius)));
             }
-            // The RTL holds r² and 1/r in f32: both must exist there.
-            if !(s.radius * s.radius).is_finite() || !(1.0 / s.radius).is_finite() {
-                return Err(self.fail(
-                    field,
-                    format!("r² and 1/r must be finite in f32, got r = {}", s.radius),
-                ));
-            }
+            // The limits keep what the RTL precomputes, r² and 1/r, finite.
+            self.within(
+                &field,
+                s.radius,
+                MIN_RADIUS,
+                MAX_RADIUS,
+                "MIN_RADIUS = 2^-60 to MAX_RADIUS = 2^60",
+            )?;
             self.material(&at, &s.material)?;
         }
         for (i, p) in planes.iter().enumerate() {
             let at = format!("plane[{i}]");
+            self.coord(&format!("{at}.offset"), p.offset)?;
             if p.facing != 1.0 && p.facing != -1.0 {
                 return Err(self.fail(
                     format!("{at}.facing"),
