@@ -12,7 +12,7 @@
 //! per-row reports merge exactly (see [`CompareReport::merge`]), so the report
 //! is the same whatever the number of threads.
 
-use crate::compare::{compare_pixel, CompareReport, Labels, Tolerance};
+use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
 use golden::fp::Method;
 use golden::micro::isa::state_label;
@@ -101,31 +101,83 @@ struct Worker {
 impl Worker {
     fn new(scene: &Scene, options: &CosimOptions) -> Result<Worker, PpError> {
         let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt)?;
-        rtl.set_timeout_cycles(options.timeout_cycles);
-        rtl.set_fault(options.fault);
-        rtl.load_scene(scene)?;
+        prepare(&mut rtl, scene, options)?;
         Ok(Worker {
             rtl,
             events: Vec::new(),
         })
     }
+}
 
-    /// Runs pixel (x, y) on both sides and adds the verdict to `report`.
-    fn pixel(
-        &mut self,
-        golden: &Processor,
-        report: &mut CompareReport,
-        x: u32,
-        y: u32,
-    ) -> Result<(), PpError> {
-        self.events.clear();
-        let rtl = self.rtl.run_pixel(x, y, Some(&mut self.events))?;
-        let verdict = compare_pixel(x, y, Tolerance::default(), &self.events, rtl, |sink| {
+/// Sets `rtl` up for a run of `scene` with `options`: timeout, fault, and
+/// the scene loaded (after a reset).
+fn prepare(rtl: &mut PixelProcessor, scene: &Scene, options: &CosimOptions) -> Result<(), PpError> {
+    rtl.set_timeout_cycles(options.timeout_cycles);
+    rtl.set_fault(options.fault);
+    rtl.load_scene(scene)
+}
+
+/// Runs pixel (x, y) on both sides and returns the verdict; `events` is
+/// the RTL's event buffer.
+fn compare_one(
+    rtl: &mut PixelProcessor,
+    events: &mut Vec<TraceEvent>,
+    golden: &Processor,
+    x: u32,
+    y: u32,
+) -> Result<PixelVerdict, PpError> {
+    events.clear();
+    let a = rtl.run_pixel(x, y, Some(events))?;
+    Ok(compare_pixel(
+        x,
+        y,
+        Tolerance::default(),
+        events,
+        a,
+        |sink| {
             let result = golden.render_pixel(x, y, |e, at| sink(e, Some(at)));
             PixelOutcome::from(&result)
-        });
-        report.add(&verdict);
-        Ok(())
+        },
+    ))
+}
+
+/// Co-simulates `window` of `scene` on the calling thread, on a model the
+/// caller owns (it must have the scene's methods; the scene is loaded into
+/// it): for many small runs, such as a fuzz campaign, where building a
+/// model per run would cost more than the run. `each` sees every pixel's
+/// verdict.
+pub fn run_on(
+    rtl: &mut PixelProcessor,
+    scene: &Scene,
+    window: Window,
+    options: &CosimOptions,
+    each: &mut dyn FnMut(&PixelVerdict),
+) -> Result<CosimReport, CosimError> {
+    window.check_inside(scene.camera.width, scene.camera.height)?;
+    prepare(rtl, scene, options)?;
+    let golden = Processor::new(scene);
+    let mut compare = CompareReport::new(Labels::rtl_golden());
+    let mut events = Vec::new();
+    for (x, y) in window.iter() {
+        let verdict = compare_one(rtl, &mut events, &golden, x, y)?;
+        each(&verdict);
+        compare.add(&verdict);
+    }
+    Ok(report(scene, window, options, compare))
+}
+
+fn report(
+    scene: &Scene,
+    window: Window,
+    options: &CosimOptions,
+    compare: CompareReport,
+) -> CosimReport {
+    CosimReport {
+        recip: scene.render.recip,
+        sqrt: scene.render.sqrt,
+        window,
+        fault: options.fault,
+        compare,
     }
 }
 
@@ -159,9 +211,11 @@ pub fn run(
                         Some(w) => w,
                         None => worker.insert(Worker::new(scene, options)?),
                     };
-                    window
-                        .columns()
-                        .try_for_each(|x| w.pixel(&golden, &mut report, x, y))
+                    for x in window.columns() {
+                        let v = compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?;
+                        report.add(&v);
+                    }
+                    Ok(())
                 })();
                 if let Err(e) = row {
                     failed.store(true, Ordering::Relaxed);
@@ -178,11 +232,5 @@ pub fn run(
     for row in rows {
         compare.merge(row?);
     }
-    Ok(CosimReport {
-        recip: scene.render.recip,
-        sqrt: scene.render.sqrt,
-        window,
-        fault: options.fault,
-        compare,
-    })
+    Ok(report(scene, window, options, compare))
 }

@@ -11,6 +11,7 @@
 //!   outcomes per pixel, whatever produced them; verdicts and reports.
 //! - [`cosim`]: the live run of the pixel processor against the golden
 //!   micro-op model, event by event, cycle for cycle, streaming.
+//! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
 //! - [`trace_files`]: trace-file headers and writers for a window.
@@ -20,6 +21,7 @@ pub mod compare;
 pub mod cosim;
 pub mod fp_check;
 pub mod fp_unit;
+pub mod fuzz;
 pub mod operands;
 pub mod pixel_proc;
 pub mod scenes;

@@ -7,6 +7,7 @@
 mod args;
 mod cosim;
 mod fp_check;
+mod fuzz;
 mod render;
 mod trace_dump;
 mod ui;
@@ -33,6 +34,10 @@ enum Command {
     /// Co-simulate the float units of rtl/fp against golden::fp: edge cases,
     /// then seeded random operands (or every input, for unary units).
     FpCheck(fp_check::FpCheckArgs),
+    /// Generate random scene files and co-simulate each one that loads;
+    /// each must be refused at load or agree everywhere, with finite
+    /// colours. Exits 0 when every scene kept that promise, 1 otherwise.
+    Fuzz(fuzz::FuzzArgs),
     /// Render a scene to a PNG with a golden model (and, with --trace, write
     /// the micro-op model's trace of a window of pixels).
     Render(render::RenderArgs),
@@ -45,6 +50,7 @@ fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Cosim(args) => cosim::run(args),
         Command::FpCheck(args) => fp_check::run(args),
+        Command::Fuzz(args) => fuzz::run(args),
         Command::Render(args) => render::run(args).map(|()| true),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),
     };

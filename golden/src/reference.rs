@@ -11,15 +11,21 @@
 //! - Primary ray of pixel (px, py), py = 0 at the top: camera-space
 //!   direction `(px - width/2, height/2 - py, distance)` (no half-pixel
 //!   offset), rotated by `Rz * Ry * Rx`, normalized; origin the eye.
-//! - Sphere (c, r): `v = o - c`, `b = v·d`, `disc = b² - (v·v - r²)`; a hit
-//!   iff `disc >= 0` and `t = -b - sqrt(disc) > 0` (the ray starts outside).
+//! - Sphere (c, r): `v = o - c`, `b = v·d`, `w = v - b·d` (the centre's
+//!   offset from the ray's line), `disc = r² - w·w`; a hit iff `disc >= 0`
+//!   and `t = -b - sqrt(disc) > 0` (the ray starts outside). This is the
+//!   thesis' `b² - (v·v - r²)` rearranged so that it does not cancel: far
+//!   from the origin (coordinates near the 2^60 limit) the thesis' form
+//!   loses every digit even in f64 and "hits" where there is nothing.
 //! - Plane (normal n = facing·unit(axis), offset q): `denom = n·d`; a hit iff
 //!   `denom < 0` and `t = (facing·q - n·o) / denom > 0`. Planes are one-sided.
 //! - The nearest hit wins; on a tie in t, spheres before planes, lower index
 //!   first. A ray never tests the object it leaves from (all objects are
 //!   convex, so this is exact; no epsilon anywhere).
-//! - Shading at p, normal n, incoming d, material (C, kd, ks, kr), light
-//!   (L, Lc): `l = normalize(L - p)`; the light is visible unless another
+//! - Shading at p, normal n (a sphere's `normalize(p - c)`; exact hits make
+//!   it `(p - c)/r`, and where p is imprecise a unit normal keeps every term
+//!   bounded), incoming d, material (C, kd, ks, kr), light
+//!   (L, Lc): `l = normalize(L - p)` (zero if p is the light); the light is visible unless another
 //!   object is hit along (p, l) with `t < |L - p|`. If visible,
 //!   `local = kd·max(n·l, 0)·(C∘Lc) + ks·max(r·l, 0)^20·Lc` with
 //!   `r = d - 2(d·n)n`; otherwise 0. No ambient light; a miss is black.
@@ -102,7 +108,8 @@ fn hit_sphere(scene: &Scene, i: usize, o: DVec3, d: DVec3) -> Option<f64> {
     let r = f64::from(s.radius);
     let v = o - dvec(s.center);
     let b = v.dot(d);
-    let disc = b * b - (v.dot(v) - r * r);
+    let w = v - b * d;
+    let disc = r * r - w.dot(w);
     if disc < 0.0 {
         return None;
     }
@@ -178,7 +185,7 @@ pub fn nearest_hit(
 pub fn light_visible(scene: &Scene, p: DVec3, on: Object) -> bool {
     let to_light = dvec(scene.light.position) - p;
     let dist = to_light.length();
-    let l = to_light / dist;
+    let l = to_light.normalize_or_zero();
     !for_each_hit(scene, p, l, Some(on), |_, t| t < dist)
 }
 
@@ -190,7 +197,7 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
     let (n, m) = match obj {
         Object::Sphere(i) => {
             let s = &scene.spheres[i];
-            ((p - dvec(s.center)) / f64::from(s.radius), &s.material)
+            ((p - dvec(s.center)).normalize_or_zero(), &s.material)
         }
         Object::Plane(j) => {
             let pl = &scene.planes[j];
@@ -201,7 +208,7 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
     let light_color = dvec(scene.light.color);
     let mut color = DVec3::ZERO;
     if light_visible(scene, p, obj) {
-        let l = (dvec(scene.light.position) - p).normalize();
+        let l = (dvec(scene.light.position) - p).normalize_or_zero();
         let diffuse = f64::from(m.diffuse) * n.dot(l).max(0.0);
         let specular = f64::from(m.specular) * r.dot(l).max(0.0).powi(SPECULAR_EXPONENT);
         color = diffuse * (dvec(m.color) * light_color) + specular * light_color;

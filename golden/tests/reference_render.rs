@@ -340,3 +340,32 @@ fn the_full_size_reference_and_mirror_scenes_never_exceed_1() {
         assert!(max <= 1.0, "{name}: largest channel {max}");
     }
 }
+
+/// A scene the fuzzer found (tests/fixtures): a sphere at the coordinate
+/// limit. Every colour of both models is finite, and the micro-op model,
+/// which cannot resolve the sphere in f32, and the reference agree there.
+#[test]
+fn a_sphere_at_the_coordinate_limit_gives_finite_colours_in_both_models() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/fuzz-seed-1-scene-3333.toml");
+    let scene = Scene::load(&path).expect("the fixture loads");
+    let micro = golden::micro::Processor::new(&scene);
+    for y in 0..scene.camera.height {
+        for x in 0..scene.camera.width {
+            let r = golden::reference::render_pixel(&scene, x, y);
+            let m = micro.render_pixel(x, y, |_, _| {});
+            assert!(
+                r.iter().all(|c| c.is_finite()),
+                "reference ({x}, {y}): {r:?}"
+            );
+            assert!(
+                m.rgb.iter().all(|c| c.is_finite()),
+                "micro ({x}, {y}): {:?}",
+                m.rgb
+            );
+        }
+    }
+    // The pixel that was infinite: its ray only grazes the far sphere's
+    // neighbourhood, and both models see nothing.
+    assert_eq!(golden::reference::render_pixel(&scene, 4, 3), [0.0; 3]);
+}

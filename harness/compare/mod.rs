@@ -147,6 +147,51 @@ impl UlpHistogram {
     }
 }
 
+/// A set of controller state ids: which states a comparison saw (state
+/// coverage). Merges by union.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct StateSet {
+    bits: [u64; StateSet::WORDS],
+}
+
+impl Default for StateSet {
+    fn default() -> StateSet {
+        StateSet {
+            bits: [0; StateSet::WORDS],
+        }
+    }
+}
+
+impl StateSet {
+    const WORDS: usize = (1 << golden::micro::isa::dim::ST_BITS) / 64;
+
+    pub fn insert(&mut self, state: u16) {
+        if let Some(w) = self.bits.get_mut(usize::from(state) / 64) {
+            *w |= 1 << (state % 64);
+        }
+    }
+
+    pub fn contains(&self, state: u16) -> bool {
+        self.bits
+            .get(usize::from(state) / 64)
+            .is_some_and(|w| w >> (state % 64) & 1 == 1)
+    }
+
+    pub fn union(&mut self, other: &StateSet) {
+        for (a, b) in self.bits.iter_mut().zip(other.bits) {
+            *a |= b;
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.bits.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// What diverged first in a pixel: the first event that differs (in
 /// sequence order), else a missing or extra event, else the colour, else
 /// the cycle count.
@@ -221,6 +266,7 @@ pub struct PixelCompare {
     compared: u64,
     mismatches: u64,
     ulps: UlpHistogram,
+    states: StateSet,
     first: Option<DivergenceKind>,
 }
 
@@ -233,6 +279,7 @@ impl PixelCompare {
             compared: 0,
             mismatches: 0,
             ulps: UlpHistogram::default(),
+            states: StateSet::default(),
             first: None,
         }
     }
@@ -240,6 +287,7 @@ impl PixelCompare {
     /// Both sides made an event at this sequence number.
     pub fn pair(&mut self, a: &TraceEvent, b: &TraceEvent, at: Option<SourceLine>) {
         self.compared += 1;
+        self.states.insert(b.state);
         for i in 0..3 {
             if let Some(d) = lane_distance(a, b, i) {
                 self.ulps.add(d);
@@ -281,6 +329,7 @@ impl PixelCompare {
             compared: self.compared,
             mismatches: self.mismatches,
             ulps: self.ulps,
+            states: self.states,
             rgb_differs,
             cycles_differ,
             first: first.map(|kind| Divergence {
@@ -330,6 +379,8 @@ pub struct PixelVerdict {
     pub mismatches: u64,
     /// The distances of the lanes both sides wrote.
     pub ulps: UlpHistogram,
+    /// The states of B's events that had a counterpart in A.
+    pub states: StateSet,
     pub rgb_differs: bool,
     pub cycles_differ: bool,
     /// What diverged first, if anything did.
@@ -411,6 +462,8 @@ pub struct CompareReport {
     pub counts: Counts,
     /// Distances of every lane both sides wrote.
     pub ulps: UlpHistogram,
+    /// The controller states compared (state coverage).
+    pub states: StateSet,
     /// The first divergent pixel in row order, and what diverged first.
     pub first_divergence: Option<Divergence>,
 }
@@ -421,6 +474,7 @@ impl CompareReport {
             labels,
             counts: Counts::default(),
             ulps: UlpHistogram::default(),
+            states: StateSet::default(),
             first_divergence: None,
         }
     }
@@ -429,6 +483,7 @@ impl CompareReport {
     pub fn add(&mut self, v: &PixelVerdict) {
         self.counts += Counts::of(v);
         self.ulps.merge(&v.ulps);
+        self.states.union(&v.states);
         self.keep_first(v.first);
     }
 
@@ -437,6 +492,7 @@ impl CompareReport {
     pub fn merge(&mut self, other: CompareReport) {
         self.counts += other.counts;
         self.ulps.merge(&other.ulps);
+        self.states.union(&other.states);
         self.keep_first(other.first_divergence);
     }
 

@@ -59,6 +59,9 @@ fn identical_streams_agree_and_count_every_pair_and_lane() {
     assert!(r.passed());
     assert_eq!(r.counts.a_events, 7);
     assert_eq!(r.counts.a_cycles, 100);
+    // States 10..=16 were compared, and only they.
+    assert_eq!(r.states.len(), 7);
+    assert!((10..17).all(|s| r.states.contains(s)) && !r.states.contains(17));
 }
 
 #[test]

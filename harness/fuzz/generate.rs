@@ -1,0 +1,320 @@
+//! Random scene files: the inputs a user could write, not the ones we did.
+//!
+//! Scene `index` of seed `seed` comes from its own ChaCha stream, so any one
+//! scene can be made again from (seed, index) alone, whatever ran before it
+//! or on which thread. The generator writes TOML text, so every scene goes
+//! through the same loader and validation as a user's file.
+//!
+//! What it varies: 0 to 8 spheres and 0 to 6 planes (so, now and then, no
+//! object at all), materials, colours, the light and the camera, the stack
+//! depth, both float methods, each speed-up. Magnitudes span the whole
+//! accepted range: a scene has a scale anywhere from 2^-58 to 2^58 (most
+//! often a familiar one), and any value may instead sit exactly on a limit
+//! of `golden::scene` or just past it. A scene with a value past a limit is
+//! marked [`Generated::in_limits`] false: it should be refused, and the
+//! others mostly accepted. Nothing is filtered: what comes out is what the
+//! campaign runs.
+
+use golden::scene::{
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE,
+    MIN_RADIUS,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::fmt::Write;
+
+/// The image sides of a generated scene: small, so that thousands of scenes
+/// co-simulate in minutes.
+pub const SIDES: std::ops::RangeInclusive<u32> = 2..=10;
+
+/// One generated scene file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Generated {
+    pub seed: u64,
+    pub index: u64,
+    /// The scene file.
+    pub toml: String,
+    /// Whether every value lies inside the documented limits (no value was
+    /// put past one on purpose).
+    pub in_limits: bool,
+}
+
+struct Gen {
+    rng: ChaCha8Rng,
+    /// A value was put past a limit on purpose.
+    past: bool,
+    /// The scene's scale: typical coordinates are within it.
+    scale: f64,
+}
+
+/// The next f32 above `x` (x > 0), as f64.
+fn f32_up(x: f32) -> f64 {
+    f64::from(f32::from_bits(x.to_bits() + 1))
+}
+
+/// The next f32 below `x` (x > 0), as f64.
+fn f32_down(x: f32) -> f64 {
+    f64::from(f32::from_bits(x.to_bits() - 1))
+}
+
+/// A TOML float that reads back as exactly `x`.
+fn num(x: f64) -> String {
+    format!("{x:e}")
+}
+
+impl Gen {
+    fn chance(&mut self, p: f64) -> bool {
+        self.rng.random_bool(p)
+    }
+
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.rng.random_range(lo..=hi)
+    }
+
+    fn sign(&mut self) -> f64 {
+        if self.chance(0.5) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
+    /// A positive magnitude in `[lo, hi]`: the bounds themselves now and
+    /// then, just past them rarely (marking the scene), else `typical()`
+    /// clamped into the range.
+    fn magnitude(&mut self, lo: f32, hi: f32, typical: f64) -> f64 {
+        let roll = self.uniform(0.0, 1.0);
+        if roll < 0.02 {
+            f64::from(lo)
+        } else if roll < 0.04 {
+            f64::from(hi)
+        } else if roll < 0.045 {
+            self.past = true;
+            f32_down(lo)
+        } else if roll < 0.05 {
+            self.past = true;
+            f32_up(hi)
+        } else {
+            typical.clamp(f64::from(lo), f64::from(hi))
+        }
+    }
+
+    /// A coordinate: within the scene's scale, or on or past ±MAX_COORD.
+    fn coord(&mut self, centre: f64, spread: f64) -> f64 {
+        let roll = self.uniform(0.0, 1.0);
+        if roll < 0.015 {
+            self.sign() * f64::from(MAX_COORD)
+        } else if roll < 0.0175 {
+            self.past = true;
+            self.sign() * f32_up(MAX_COORD)
+        } else {
+            let x = centre + self.uniform(-spread, spread) * self.scale;
+            x.clamp(-f64::from(MAX_COORD), f64::from(MAX_COORD))
+        }
+    }
+
+    fn point(&mut self, centre: [f64; 3], spread: f64) -> String {
+        let v = centre.map(|c| self.coord(c * self.scale, spread));
+        format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+    }
+
+    /// A value in [0, 1]: often 0 or 1 exactly, rarely just past.
+    fn unit(&mut self) -> f64 {
+        let roll = self.uniform(0.0, 1.0);
+        if roll < 0.1 {
+            0.0
+        } else if roll < 0.2 {
+            1.0
+        } else if roll < 0.202 {
+            self.past = true;
+            if self.chance(0.5) {
+                -f64::from(f32::from_bits(1))
+            } else {
+                f32_up(1.0)
+            }
+        } else {
+            self.uniform(0.0, 1.0)
+        }
+    }
+
+    fn colour(&mut self) -> String {
+        let c = [self.unit(), self.unit(), self.unit()];
+        format!("[{}, {}, {}]", num(c[0]), num(c[1]), num(c[2]))
+    }
+
+    fn material(&mut self, out: &mut String) {
+        let colour = self.colour();
+        let (d, s, r) = (self.unit(), self.unit(), self.unit());
+        let _ = writeln!(
+            out,
+            "color = {colour}\ndiffuse = {}\nspecular = {}\nreflection = {}",
+            num(d),
+            num(s),
+            num(r)
+        );
+    }
+
+    /// A count in `0..=max`, rarely one past it.
+    fn count(&mut self, max: usize) -> usize {
+        if self.chance(0.005) {
+            self.past = true;
+            max + 1
+        } else {
+            self.rng.random_range(0..=max)
+        }
+    }
+}
+
+/// Scene `index` of the campaign with seed `seed`.
+pub fn scene(seed: u64, index: u64) -> Generated {
+    // One stream per scene: the seed picks the campaign, the index the
+    // stream within it.
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(index);
+    let scale_exp: f64 = if rng.random_bool(0.6) {
+        rng.random_range(3.0..=11.0)
+    } else {
+        rng.random_range(-58.0..=58.0)
+    };
+    let mut g = Gen {
+        rng,
+        past: false,
+        scale: scale_exp.exp2(),
+    };
+    let mut t = String::new();
+    let _ = writeln!(t, "# rtcosim fuzz: seed {seed}, scene {index}\n");
+
+    // Camera: behind the scene, looking roughly along +z.
+    let width = g.rng.random_range(SIDES);
+    let height = g.rng.random_range(SIDES);
+    let eye = g.point([0.0, 0.0, -3.0], 1.0);
+    let rotation: [f64; 3] = std::array::from_fn(|_| {
+        if g.chance(0.2) {
+            0.0
+        } else if g.chance(0.7) {
+            g.uniform(-30.0, 30.0)
+        } else {
+            g.uniform(-180.0, 180.0)
+        }
+    });
+    let typical_distance = if g.chance(0.6) {
+        f64::from(width) * g.uniform(0.3, 3.0)
+    } else {
+        g.uniform(-60.0, 60.0).exp2()
+    };
+    let distance = g.magnitude(MIN_DISTANCE, MAX_DISTANCE, typical_distance);
+    let _ = writeln!(
+        t,
+        "[camera]\neye = {eye}\nrotation = [{}, {}, {}]\ndistance = {}\nwidth = {width}\nheight = {height}\n",
+        num(rotation[0]),
+        num(rotation[1]),
+        num(rotation[2]),
+        num(distance)
+    );
+
+    let position = g.point([0.0, 2.0, -1.0], 3.0);
+    let colour = g.colour();
+    let _ = writeln!(t, "[light]\nposition = {position}\ncolor = {colour}\n");
+
+    let spheres = g.count(MAX_SPHERES);
+    let planes = g.count(MAX_PLANES);
+    for _ in 0..spheres {
+        let centre = g.point([0.0, 0.0, 0.0], 1.5);
+        let typical = g.scale * g.uniform(-5.0, 0.0).exp2();
+        let radius = g.magnitude(MIN_RADIUS, MAX_RADIUS, typical);
+        let _ = writeln!(t, "[[sphere]]\ncenter = {centre}\nradius = {}", num(radius));
+        g.material(&mut t);
+        t.push('\n');
+    }
+    for _ in 0..planes {
+        let axis = ["x", "y", "z"][g.rng.random_range(0..3)];
+        let facing = if g.chance(0.5) { "+" } else { "-" };
+        let offset = g.coord(0.0, 3.0);
+        let _ = writeln!(
+            t,
+            "[[plane]]\naxis = \"{axis}\"\nfacing = \"{facing}\"\noffset = {}",
+            num(offset)
+        );
+        g.material(&mut t);
+        t.push('\n');
+    }
+
+    let depth = if g.chance(0.005) {
+        g.past = true;
+        if g.chance(0.5) {
+            0
+        } else {
+            MAX_DEPTH + 1
+        }
+    } else {
+        g.rng.random_range(1..=MAX_DEPTH)
+    };
+    let method = |g: &mut Gen| if g.chance(0.5) { "exact" } else { "fast" };
+    let (recip, sqrt) = (method(&mut g), method(&mut g));
+    let bounding_box = g.chance(0.5);
+    // Their preconditions (docs/scenes.md) rarely hold in a random scene:
+    // often enough to run them, rarely enough to keep most scenes inside
+    // the limits loadable.
+    let fast_plane = g.chance(0.03);
+    let shadow_shortcut = g.chance(0.03);
+    let _ = writeln!(
+        t,
+        "[render]\nmax_depth = {depth}\nbounding_box = {bounding_box}\nfast_plane = {fast_plane}\n\
+         shadow_shortcut = {shadow_shortcut}\nrecip = \"{recip}\"\nsqrt = \"{sqrt}\""
+    );
+    Generated {
+        seed,
+        index,
+        toml: t,
+        in_limits: !g.past,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use golden::scene::Scene;
+
+    #[test]
+    fn a_scene_depends_only_on_seed_and_index() {
+        assert_eq!(scene(7, 42), scene(7, 42));
+        assert_ne!(scene(7, 42).toml, scene(7, 43).toml);
+        assert_ne!(scene(7, 42).toml, scene(8, 42).toml);
+    }
+
+    #[test]
+    fn generated_files_are_well_formed_toml_scenes() {
+        // Every refusal is a validation refusal (a field and a rule), never
+        // a syntax error: the generator writes the format right.
+        for i in 0..300 {
+            let g = scene(1, i);
+            if let Err(e) = Scene::from_toml(&g.toml, "fuzz.toml") {
+                assert!(
+                    matches!(e, golden::scene::SceneError::Invalid { .. }),
+                    "scene {i}: {e}\n{}",
+                    g.toml
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn past_the_limits_is_refused_and_inside_mostly_accepted() {
+        let (mut inside, mut accepted) = (0, 0);
+        for i in 0..2000 {
+            let g = scene(3, i);
+            let ok = Scene::from_toml(&g.toml, "fuzz.toml").is_ok();
+            if g.in_limits {
+                inside += 1;
+                accepted += u32::from(ok);
+            } else {
+                assert!(!ok, "scene {i} is past a limit but accepted:\n{}", g.toml);
+            }
+        }
+        assert!(inside > 1500, "{inside} of 2000 inside the limits");
+        assert!(
+            f64::from(accepted) >= 0.9 * f64::from(inside),
+            "{accepted} of {inside} accepted"
+        );
+    }
+}

@@ -1,0 +1,117 @@
+//! The scene fuzzer (`rtcosim fuzz`): every generated scene is refused at
+//! load or co-simulates with 0 divergences and finite colours.
+//!
+//! `cargo test` runs a slice of a few dozen scenes and proves the campaign
+//! can fail; `cargo test --release --test fuzz -- --ignored` runs the long
+//! campaign of 10,000 scenes recorded in docs/rtl.md.
+
+use golden::micro::isa::state;
+use rtcosim::fuzz::{self, Fate, FuzzOptions, FuzzReport};
+use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use std::path::{Path, PathBuf};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtcosim-fuzz-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn campaign(seed: u64, count: u64, fault: Option<Fault>, dir: &Path) -> FuzzReport {
+    let options = FuzzOptions {
+        seed,
+        first: 0,
+        count,
+        failures_dir: Some(dir.to_path_buf()),
+        timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+        fault,
+    };
+    fuzz::run(&options, &|_| {}).expect("the failures directory is writable")
+}
+
+fn assert_kept(report: &FuzzReport, count: u64) {
+    let failures: Vec<String> = report
+        .failures
+        .iter()
+        .map(|(o, p)| format!("scene {} ({p:?}): {:?}", o.scene.index, o.fate))
+        .collect();
+    assert!(report.passed(), "{}", failures.join("\n"));
+    assert_eq!(report.scenes, count);
+    assert!(report.accepted > count / 2, "{} accepted", report.accepted);
+    let c = &report.compare.counts;
+    assert!(c.events_compared > 0 && c.divergent_pixels == 0);
+    assert_eq!(c.a_cycles, c.b_cycles);
+    assert_eq!(report.nonfinite, 0);
+}
+
+#[test]
+fn a_slice_of_random_scenes_is_refused_or_agrees() {
+    let dir = scratch("slice");
+    let report = campaign(2026, 48, None, &dir);
+    assert_kept(&report, 48);
+    assert!(!dir.exists(), "no failing scene was written");
+    // The slice reaches most of the controller.
+    assert!(
+        report.states().len() > 40,
+        "{} states",
+        report.states().len()
+    );
+}
+
+/// The campaign can fail: with a fault in a state every pixel visits, every
+/// accepted scene fails, is written to a file, and the file loads as the
+/// same scene (replayable with `rtcosim cosim --scene FILE`).
+#[test]
+fn a_campaign_with_an_injected_fault_fails_and_writes_replayable_scenes() {
+    let dir = scratch("fault");
+    let fault = Fault {
+        state: state::PRI_HALF,
+        xor: 1 << 10,
+    };
+    let report = campaign(2026, 12, Some(fault), &dir);
+    assert!(!report.passed());
+    assert_eq!(
+        report.failures.len() as u64,
+        report.accepted,
+        "every accepted scene fails"
+    );
+    for (o, path) in &report.failures {
+        let Fate::Ran(ran) = &o.fate else {
+            panic!("scene {} did not run: {:?}", o.scene.index, o.fate);
+        };
+        let d = ran.compare.first_divergence.expect("a divergence");
+        assert_eq!(
+            (d.x, d.y),
+            (0, 0),
+            "the first pixel already writes in PRI_HALF"
+        );
+        let path = path.as_ref().expect("written");
+        let text = std::fs::read_to_string(path).expect("readable");
+        assert_eq!(text, o.scene.toml);
+        assert_eq!(
+            golden::scene::Scene::load(path).expect("loads"),
+            golden::scene::Scene::from_toml(&o.scene.toml, "x").expect("loads")
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+#[ignore = "10,000 random scenes: a few minutes on two cores"]
+fn the_long_campaign_keeps_the_promise() {
+    let dir = scratch("long");
+    let start = std::time::Instant::now();
+    let report = campaign(1, 10_000, None, &dir);
+    println!(
+        "{} scenes, {} accepted, {} inside the limits ({} accepted), {} pixels, {} events, {} states, {:.1} s",
+        report.scenes,
+        report.accepted,
+        report.in_limits,
+        report.in_limits_accepted,
+        report.compare.counts.pixels,
+        report.compare.counts.events_compared,
+        report.states().len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert_kept(&report, 10_000);
+    assert!(report.in_limits_accepted * 10 >= report.in_limits * 9);
+}

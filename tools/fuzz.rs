@@ -1,0 +1,193 @@
+//! `rtcosim fuzz`: random scenes, each refused at load or co-simulated with
+//! 0 divergences and finite colours.
+
+use crate::args::{parse_cycles, parse_fault, ThreadsArgs};
+use crate::ui::{plural, progress_bar};
+use anyhow::{Context, Result};
+use golden::micro::isa;
+use rtcosim::fuzz::{self, Fate, FuzzOptions, FuzzReport};
+use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct FuzzArgs {
+    /// Scenes to generate.
+    #[arg(long, default_value_t = 100)]
+    pub count: u64,
+    /// Seed of the campaign: scene I of seed S is always the same file.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The first scene index (to continue a campaign, or split it).
+    #[arg(long, default_value_t = 0)]
+    pub first: u64,
+    /// Where to write each failing scene, as seed-S-scene-I.toml (replay it
+    /// with `rtcosim cosim --scene FILE`).
+    #[arg(long, value_name = "DIR", default_value = "fuzz-failures")]
+    pub failures: PathBuf,
+    #[command(flatten)]
+    pub threads: ThreadsArgs,
+    /// Self-test of the campaign: inject this fault (as `cosim --fault`)
+    /// into the RTL of every scene, so the campaign must fail.
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
+    pub fault: Option<Fault>,
+    /// Cycles a pixel may take before the RTL counts as hung.
+    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
+    pub timeout_cycles: u64,
+}
+
+/// Returns whether every scene kept the promise.
+pub fn run(args: FuzzArgs) -> Result<bool> {
+    let pool = args.threads.pool()?;
+    let threads = pool.current_num_threads();
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "rtcosim fuzz: {} scene{} from index {}, seed {}, {threads} thread{}, {}",
+        args.count,
+        plural(args.count),
+        args.first,
+        args.seed,
+        plural(threads as u64),
+        rtcosim::VERILATOR_VERSION
+    )?;
+    writeln!(out)?;
+    out.flush()?;
+    let options = FuzzOptions {
+        seed: args.seed,
+        first: args.first,
+        count: args.count,
+        failures_dir: Some(args.failures.clone()),
+        timeout_cycles: args.timeout_cycles,
+        fault: args.fault,
+    };
+    let bar = progress_bar(
+        args.count,
+        "fuzzing",
+        "{pos}/{len} scenes ({per_sec}, {eta})",
+    )?;
+    let start = Instant::now();
+    let report = pool
+        .install(|| fuzz::run(&options, &|n| bar.inc(n)))
+        .with_context(|| format!("writing failing scenes to {}", args.failures.display()))?;
+    bar.finish_and_clear();
+    print_summary(&mut out, &report, start.elapsed().as_secs_f64())?;
+    Ok(report.passed())
+}
+
+fn percent(part: u64, whole: u64) -> f64 {
+    100.0 * part as f64 / whole.max(1) as f64
+}
+
+/// The `q` quantile of `sorted` (ascending), nearest rank.
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let i = ((sorted.len() as f64 * q).ceil() as usize).clamp(1, sorted.len()) - 1;
+    sorted[i]
+}
+
+fn print_summary(out: &mut impl Write, r: &FuzzReport, seconds: f64) -> std::io::Result<()> {
+    let refused = r.scenes - r.accepted;
+    writeln!(
+        out,
+        "scenes: {} generated, {} accepted ({:.1}%), {refused} refused at load",
+        r.scenes,
+        r.accepted,
+        percent(r.accepted, r.scenes)
+    )?;
+    writeln!(
+        out,
+        "inside the documented limits: {} generated, {} accepted ({:.1}%)",
+        r.in_limits,
+        r.in_limits_accepted,
+        percent(r.in_limits_accepted, r.in_limits)
+    )?;
+    if !r.refused_by_field.is_empty() {
+        let mut by_count: Vec<(&String, &u64)> = r.refused_by_field.iter().collect();
+        by_count.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        let list: Vec<String> = by_count.iter().map(|(f, n)| format!("{f} {n}")).collect();
+        writeln!(out, "refused by field: {}", list.join(", "))?;
+    }
+    let c = &r.compare.counts;
+    writeln!(
+        out,
+        "co-simulated: {} pixels, {} events compared, {} differ; {} divergent pixels; cycles RTL {}, golden {}",
+        c.pixels, c.events_compared, c.event_mismatches, c.divergent_pixels, c.a_cycles, c.b_cycles
+    )?;
+    let states = r.states();
+    let never: Vec<&str> = isa::STATES
+        .iter()
+        .filter(|&&(_, id)| !states.contains(id))
+        .map(|&(name, _)| name)
+        .collect();
+    writeln!(
+        out,
+        "state coverage: {} of {} controller states reached{}",
+        states.len(),
+        isa::STATES.len(),
+        if never.is_empty() {
+            String::new()
+        } else {
+            format!("; never: {}", never.join(", "))
+        }
+    )?;
+    let mut errors = r.max_errors.clone();
+    errors.sort_by(f64::total_cmp);
+    writeln!(
+        out,
+        "against the f64 reference (largest colour error per scene, 0..255): median {:.3e}, 90% {:.3e}, 99% {:.3e}, max {:.3e}; {} non-finite channels",
+        quantile(&errors, 0.5),
+        quantile(&errors, 0.9),
+        quantile(&errors, 0.99),
+        errors.last().copied().unwrap_or(0.0),
+        r.nonfinite
+    )?;
+    writeln!(
+        out,
+        "{} scenes in {seconds:.1} s ({:.1} scenes/s)",
+        r.scenes,
+        r.scenes as f64 / seconds.max(1e-9)
+    )?;
+    writeln!(out)?;
+    for (o, path) in &r.failures {
+        let what = match &o.fate {
+            Fate::Ran(ran) if !ran.compare.passed() => match &ran.compare.first_divergence {
+                Some(d) => format!("diverges: {}", d.text(&ran.compare.labels)),
+                None => "no events compared".to_string(),
+            },
+            Fate::Ran(ran) => format!("{} non-finite colour channels", ran.nonfinite),
+            Fate::Error(e) => format!("the run failed: {e}"),
+            Fate::Refused { .. } => unreachable!("a refusal is not a failure"),
+        };
+        writeln!(
+            out,
+            "FAILED: seed {} scene {}{}: {what}",
+            o.scene.seed,
+            o.scene.index,
+            path.as_ref()
+                .map(|p| format!(
+                    " (written to {}; replay: rtcosim cosim --scene {})",
+                    p.display(),
+                    p.display()
+                ))
+                .unwrap_or_default()
+        )?;
+    }
+    if r.passed() {
+        writeln!(
+            out,
+            "PASS: every scene was refused at load or co-simulated with 0 divergences and finite colours"
+        )?;
+    } else {
+        writeln!(
+            out,
+            "FAIL: {} of {} scenes broke the promise",
+            r.failures.len(),
+            r.scenes
+        )?;
+    }
+    Ok(())
+}
