@@ -9,6 +9,17 @@ use std::process::Command;
 /// Lints every file of rtl/ with `top` as the top module, or, with `None`,
 /// as Verilator finds it (which warns if the tree has more than one top).
 fn lint(top: Option<&str>, params: &[&str]) {
+    let (ok, stderr) = verilate_lint(top, params);
+    assert!(
+        ok && stderr.trim().is_empty(),
+        "lint of {} {params:?}:\n{stderr}",
+        top.unwrap_or("rtl/")
+    );
+}
+
+/// Runs `verilator --lint-only -Wall` over every file of rtl/: whether it
+/// succeeded, and what it printed.
+fn verilate_lint(top: Option<&str>, params: &[&str]) -> (bool, String) {
     let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
     let dirs = [rtl.join("fp"), rtl.join("pp")];
     let mut files = Vec::new();
@@ -35,12 +46,10 @@ fn lint(top: Option<&str>, params: &[&str]) {
         .args(&files)
         .output()
         .expect("running verilator");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.success() && stderr.trim().is_empty(),
-        "lint of {} {params:?}:\n{stderr}",
-        top.unwrap_or("rtl/")
-    );
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
@@ -57,6 +66,24 @@ fn multi_cycle_units_lint_clean_with_every_method() {
             lint(Some(top), &[&format!("-GMETHOD={}", method.code())]);
         }
     }
+}
+
+/// A METHOD that names no method stops elaboration, naming the parameter,
+/// instead of running as the fast method.
+#[test]
+fn an_unknown_method_fails_elaboration() {
+    for top in ["fp_recip", "fp_sqrt"] {
+        for bad in [2, 3, -1] {
+            let (ok, stderr) = verilate_lint(Some(top), &[&format!("-GMETHOD={bad}")]);
+            assert!(!ok, "{top} with METHOD={bad} elaborated:\n{stderr}");
+            assert!(
+                stderr.contains("fp_error_METHOD_must_be_FP_METHOD_EXACT_or_FP_METHOD_FAST"),
+                "{top} METHOD={bad}: {stderr}"
+            );
+        }
+    }
+    let (ok, stderr) = verilate_lint(Some("pixel_processor"), &["-GRECIP_METHOD=5"]);
+    assert!(!ok, "pixel_processor with RECIP_METHOD=5 elaborated:\n{stderr}");
 }
 
 #[test]

@@ -30,6 +30,17 @@ module fp_recip #(
     output wire [31:0] y
 );
 
+    // ------------------------------------------------------------------------
+    // METHOD must name a method: any other value would run as the fast one.
+    // An unknown value instantiates a module that does not exist, so every
+    // simulator and synthesis tool stops at elaboration, naming it.
+    // ------------------------------------------------------------------------
+    generate
+        if (METHOD != `FP_METHOD_EXACT && METHOD != `FP_METHOD_FAST) begin : g_bad_method
+            fp_error_METHOD_must_be_FP_METHOD_EXACT_or_FP_METHOD_FAST u_bad_method ();
+        end
+    endgenerate
+
     localparam integer SEED_BITS  = 12;  // seed table index bits
     localparam integer SEED_WIDTH = 16;  // seed fraction bits, entries in (0.5, 1)
     localparam integer CORR_FRAC  = 30;  // fraction bits kept of 2 - m*y0
