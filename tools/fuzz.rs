@@ -138,11 +138,13 @@ fn print_summary(out: &mut impl Write, r: &FuzzReport, seconds: f64) -> std::io:
     errors.sort_by(f64::total_cmp);
     writeln!(
         out,
-        "against the f64 reference (largest colour error per scene, 0..255): median {:.3e}, 90% {:.3e}, 99% {:.3e}, max {:.3e}; {} non-finite channels",
+        "against the f64 reference (largest colour error per scene, 0..255): median {:.3e}, 90% {:.3e}, 99% {:.3e}, max {:.3e}; {} scenes over 0.5, {} over 1; {} non-finite channels",
         quantile(&errors, 0.5),
         quantile(&errors, 0.9),
         quantile(&errors, 0.99),
         errors.last().copied().unwrap_or(0.0),
+        errors.iter().filter(|&&e| e > 0.5).count(),
+        errors.iter().filter(|&&e| e > 1.0).count(),
         r.nonfinite
     )?;
     writeln!(
