@@ -464,8 +464,11 @@ fn target_dir(out: &Path) -> PathBuf {
     }
 }
 
-/// `FP_METHOD_<NAME> <code>` lines of fp_defs.vh, lower-cased names; checked
-/// against golden::fp::Method so the two sides cannot drift.
+/// `FP_METHOD_<NAME> <code>` lines of fp_defs.vh, lower-cased names.
+/// `tests/rtl_lint.rs` checks them against golden::fp::Method, so the two
+/// sides cannot drift; the check is a test rather than a build step so that
+/// this script does not depend on `golden`, and editing golden does not
+/// re-verilate the RTL.
 fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
     let text = fs::read_to_string(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
     let mut methods = Vec::new();
@@ -482,24 +485,8 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
             }
         }
     }
-    for m in golden::fp::Method::ALL {
-        if !methods
-            .iter()
-            .any(|(name, code)| name == m.name() && *code == m.code())
-        {
-            return Err(format!(
-                "{} does not define FP_METHOD_{} as {}, as golden::fp::Method::{m:?} says",
-                path.display(),
-                m.name().to_uppercase(),
-                m.code()
-            ));
-        }
-    }
-    if methods.len() != golden::fp::Method::ALL.len() {
-        return Err(format!(
-            "{} defines methods golden::fp::Method lacks: {methods:?}",
-            path.display()
-        ));
+    if methods.is_empty() {
+        return Err(format!("{} defines no FP_METHOD_*", path.display()));
     }
     Ok(methods)
 }

@@ -105,3 +105,32 @@ fn the_pixel_processor_lints_clean_with_and_without_its_trace_port() {
         }
     }
 }
+
+/// `FP_METHOD_*` in rtl/fp/fp_defs.vh and golden::fp::Method name the same
+/// methods with the same codes (build.rs verilates one model per define; the
+/// harness picks a model by golden's code).
+#[test]
+fn fp_defs_method_codes_match_golden() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl/fp/fp_defs.vh");
+    let text = std::fs::read_to_string(&path).expect("reading fp_defs.vh");
+    let mut defined: Vec<(String, u32)> = text
+        .lines()
+        .filter_map(|line| {
+            let mut w = line.split_whitespace();
+            match (w.next(), w.next(), w.next()) {
+                (Some("`define"), Some(name), Some(code)) => {
+                    let name = name.strip_prefix("FP_METHOD_")?;
+                    Some((name.to_lowercase(), code.parse().expect("a numeric code")))
+                }
+                _ => None,
+            }
+        })
+        .collect();
+    defined.sort();
+    let mut golden: Vec<(String, u32)> = golden::fp::Method::ALL
+        .iter()
+        .map(|m| (m.name().to_string(), m.code()))
+        .collect();
+    golden.sort();
+    assert_eq!(defined, golden, "{}", path.display());
+}
