@@ -3,43 +3,26 @@
 //! models were built with. Every file of rtl/fp and rtl/pp is read each time,
 //! as a reviewer would lint the tree.
 
-use std::path::Path;
+mod common;
+
 use std::process::Command;
 
 /// Lints every file of rtl/ with `top` as the top module, or, with `None`,
 /// as Verilator finds it (which warns if the tree has more than one top).
 fn lint(top: Option<&str>, params: &[&str]) {
-    let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
-    let dirs = [rtl.join("fp"), rtl.join("pp")];
-    let mut files = Vec::new();
-    for dir in &dirs {
-        let listing =
-            std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
-        files.extend(
-            listing
-                .map(|e| e.expect("listing rtl/").path())
-                .filter(|p| p.extension().is_some_and(|x| x == "v")),
-        );
-    }
-    files.sort();
+    let (dirs, files) = common::rtl_tree();
     let mut cmd = Command::new(env!("RTCOSIM_VERILATOR_BIN"));
     let root = env!("RTCOSIM_VERILATOR_ROOT");
     if !root.is_empty() {
         cmd.env("VERILATOR_ROOT", root);
     }
-    let out = cmd
-        .args(["--lint-only", "-Wall"])
-        .args(top.map(|t| ["--top-module", t]).into_iter().flatten())
-        .args(dirs.iter().map(|d| format!("-I{}", d.display())))
-        .args(params)
-        .args(&files)
-        .output()
-        .expect("running verilator");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.success() && stderr.trim().is_empty(),
-        "lint of {} {params:?}:\n{stderr}",
-        top.unwrap_or("rtl/")
+    common::run_silent(
+        cmd.args(["--lint-only", "-Wall"])
+            .args(top.map(|t| ["--top-module", t]).into_iter().flatten())
+            .args(dirs.iter().map(|d| format!("-I{}", d.display())))
+            .args(params)
+            .args(&files),
+        &format!("lint of {} {params:?}", top.unwrap_or("rtl/")),
     );
 }
 
