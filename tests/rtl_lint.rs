@@ -3,6 +3,8 @@
 //! models were built with. Every file of rtl/fp and rtl/pp is read each time,
 //! as a reviewer would lint the tree.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -20,19 +22,7 @@ fn lint(top: Option<&str>, params: &[&str]) {
 /// Runs `verilator --lint-only -Wall` over every file of rtl/: whether it
 /// succeeded, and what it printed.
 fn verilate_lint(top: Option<&str>, params: &[&str]) -> (bool, String) {
-    let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
-    let dirs = [rtl.join("fp"), rtl.join("pp")];
-    let mut files = Vec::new();
-    for dir in &dirs {
-        let listing =
-            std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
-        files.extend(
-            listing
-                .map(|e| e.expect("listing rtl/").path())
-                .filter(|p| p.extension().is_some_and(|x| x == "v")),
-        );
-    }
-    files.sort();
+    let (dirs, files) = common::rtl_tree();
     let mut cmd = Command::new(env!("RTCOSIM_VERILATOR_BIN"));
     let root = env!("RTCOSIM_VERILATOR_ROOT");
     if !root.is_empty() {

@@ -46,27 +46,29 @@ module mem_ctrl #(
     localparam [SP_BITS:0]   DEPTH  = STACK_DEPTH[SP_BITS:0];
 
     // ------------------------------------------------------------------------
-    // Shared by the three ports: the current and parent levels' first
-    // addresses, and whether those levels exist
-    // ------------------------------------------------------------------------
-    wire [RB-1:0] cur_base = STK0_O + {{(RB-SP_BITS){1'b0}}, sp} * STRIDE;
-    wire [RB-1:0] par_base = cur_base - STRIDE;
-    wire          cur_ok   = ({1'b0, sp} < DEPTH);
-    wire          par_ok   = (sp != SP_0) && ({1'b0, sp} <= DEPTH);
-
-    // ------------------------------------------------------------------------
     // One decoder per port
     // ------------------------------------------------------------------------
+    // A pure function of the address and the stack pointer: a continuous
+    // assignment re-evaluates a function only when its arguments change, so
+    // everything it reads is an argument (the same meaning in every
+    // simulator, and sp changes with la unchanged on back-to-back POPs).
     // Inside either range the field (la - CUR_O or la - PAR_O) is below
     // STK_STRIDE, so the difference of the low FIELD_BITS bits is all of it.
-    function [RB-1:0] decode(input [RB-1:0] la);
-        reg                  is_cur, is_par;
+    function [RB-1:0] decode(input [RB-1:0] la, input [SP_BITS-1:0] level);
+        reg [RB-1:0]         cur_base, par_base;
+        reg                  cur_ok, par_ok, is_cur, is_par;
         reg [FIELD_BITS-1:0] field;
         begin
-            is_cur = (la >= CUR_O) && (la < CUR_O + STRIDE);
-            is_par = (la >= PAR_O) && (la < PAR_O + STRIDE);
-            field  = la[FIELD_BITS-1:0]
-                     - (is_par ? PAR_O[FIELD_BITS-1:0] : CUR_O[FIELD_BITS-1:0]);
+            // The current and parent levels' first addresses, and whether
+            // those levels exist.
+            cur_base = STK0_O + {{(RB-SP_BITS){1'b0}}, level} * STRIDE;
+            par_base = cur_base - STRIDE;
+            cur_ok   = ({1'b0, level} < DEPTH);
+            par_ok   = (level != SP_0) && ({1'b0, level} <= DEPTH);
+            is_cur   = (la >= CUR_O) && (la < CUR_O + STRIDE);
+            is_par   = (la >= PAR_O) && (la < PAR_O + STRIDE);
+            field    = la[FIELD_BITS-1:0]
+                       - (is_par ? PAR_O[FIELD_BITS-1:0] : CUR_O[FIELD_BITS-1:0]);
             decode = la;
             if (is_cur && cur_ok)
                 decode = cur_base + {{(RB-FIELD_BITS){1'b0}}, field};
@@ -79,9 +81,9 @@ module mem_ctrl #(
         end
     endfunction
 
-    assign pa_a = decode(la_a);
-    assign pa_b = decode(la_b);
-    assign pa_w = decode(la_w);
+    assign pa_a = decode(la_a, sp);
+    assign pa_b = decode(la_b, sp);
+    assign pa_w = decode(la_w, sp);
 
 endmodule
 `default_nettype wire

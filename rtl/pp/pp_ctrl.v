@@ -217,10 +217,12 @@ module pp_ctrl (
 
     // The shaded object's registers and switches.
     // Material bits (loader::MaterialBits::code): diffuse, specular, reflective.
-    function [2:0] bits_of(input kind, input [2:0] idx);
-        bits_of = kind == K_SPH ? sph_bits[3*idx +: 3] : pln_bits[3*idx +: 3];
+    // A function reads only its arguments: a continuous assignment
+    // re-evaluates it only when they change.
+    function [2:0] bits_of(input kind, input [2:0] idx, input [23:0] sph, input [23:0] pln);
+        bits_of = kind == K_SPH ? sph[3*idx +: 3] : pln[3*idx +: 3];
     endfunction
-    wire [2:0]    obj_bits     = bits_of(obj_kind_q, obj_idx_q);
+    wire [2:0]    obj_bits     = bits_of(obj_kind_q, obj_idx_q, sph_bits, pln_bits);
     wire          obj_diffuse  = obj_bits[0];
     wire          obj_specular = obj_bits[1];
     wire          unused_obj_reflective = obj_bits[2];  // read from best at shade_start
@@ -478,13 +480,13 @@ module pp_ctrl (
     endtask
 
     // run: a hit found -> push if reflective and below the depth, then shade.
-    function reflective(input kind, input [2:0] idx);
-        reflective = kind == K_SPH ? sph_bits[3*idx + 2] : pln_bits[3*idx + 2];
+    function reflective(input kind, input [2:0] idx, input [23:0] sph, input [23:0] pln);
+        reflective = kind == K_SPH ? sph[3*idx + 2] : pln[3*idx + 2];
     endfunction
 
     task shade_start;
         begin
-            push_d     = reflective(best_kind_d, best_idx_d) && ({1'b0, sp_q} + 4'd1 < max_depth);
+            push_d     = reflective(best_kind_d, best_idx_d, sph_bits, pln_bits) && ({1'b0, sp_q} + 4'd1 < max_depth);
             sp_d       = push_d ? sp_q + 3'd1 : sp_q;
             obj_kind_d = best_kind_d;
             obj_idx_d  = best_idx_d;

@@ -1,0 +1,56 @@
+//! Helpers shared by the integration tests.
+// Each test crate uses its own part of this module.
+#![allow(dead_code)]
+
+use golden::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// rtl/fp and rtl/pp: the include directories, and every Verilog source in
+/// them, sorted (as a reviewer would read the tree).
+pub fn rtl_tree() -> ([PathBuf; 2], Vec<PathBuf>) {
+    let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
+    let dirs = [rtl.join("fp"), rtl.join("pp")];
+    let mut files = Vec::new();
+    for dir in &dirs {
+        let listing =
+            std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
+        files.extend(
+            listing
+                .map(|e| e.expect("listing rtl/").path())
+                .filter(|p| p.extension().is_some_and(|x| x == "v")),
+        );
+    }
+    files.sort();
+    (dirs, files)
+}
+
+/// A builtin scene at the reduced size the RTL tests run it at (whole
+/// frames in seconds, every silhouette, shadow edge and horizon in):
+/// grazing at 96x72, light_touch at 64x48, box_room (about 1,400 cycles a
+/// pixel) at 40x30, the others at 80x60.
+pub fn reduced(name: &str) -> Scene {
+    let (w, h) = match name {
+        "grazing" => (96, 72),
+        "light_touch" => (64, 48),
+        "box_room" => (40, 30),
+        _ => (80, 60),
+    };
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("builtin scene {name}"))
+        .resized(w, h, name)
+        .expect("a smaller image of a valid scene is valid")
+}
+
+/// Runs a tool that must succeed without a word on stderr (a compiler or a
+/// linter: a warning fails too); `what` names the run in the failure.
+pub fn run_silent(cmd: &mut Command, what: &str) {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: cannot run {:?}: {e}", cmd.get_program()));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && stderr.trim().is_empty(),
+        "{what}:\n{stderr}"
+    );
+}
