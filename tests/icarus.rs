@@ -7,10 +7,12 @@
 //! arguments, a combinational block whose reads hide in tasks) shows here as
 //! pixels that Verilator gets right and Icarus does not.
 //!
-//! `cargo test` runs a sample of every builtin scene, including the pixels
-//! of the 80x60 reference frame that differed under Icarus before the RTL
-//! was fixed (docs/rtl.md); `--ignored` adds whole reduced frames of every
-//! builtin scene.
+//! `cargo test` runs a sample of every builtin scene, including pixels of
+//! the 80x60 reference frame that differed under Icarus before the RTL was
+//! fixed (docs/rtl.md); `--ignored` adds whole reduced frames of every
+//! builtin scene (RTCOSIM_ICARUS_SCENES=a,b picks some) and the builtin
+//! scenes with their switches flipped (speed-ups off, fast methods, other
+//! rotations and depths), which reach controller paths no builtin does.
 //!
 //! Without `iverilog` on PATH the tests print that they did not run and
 //! pass, unless RTCOSIM_REQUIRE_ICARUS=1 (CI sets it), which fails them.
@@ -325,6 +327,65 @@ fn every_builtin_scene_agrees_under_icarus() {
             let pixels: Vec<(u32, u32)> =
                 (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).collect();
             (format!("frame_{name}"), scene, pixels)
+        })
+        .collect();
+    assert_same(&scenes);
+}
+
+/// `scene` with one of its switches flipped, if the scene still validates
+/// (a shadow shortcut cannot be turned off where it is off already).
+fn switched(scene: &Scene, switch: &str) -> Option<Scene> {
+    let mut render = scene.render;
+    let mut camera = scene.camera.clone();
+    let s = &mut render.speedups;
+    match switch {
+        "no_speedups" => (s.bounding_box, s.fast_plane, s.shadow_shortcut) = (false, false, false),
+        "no_bounding_box" => s.bounding_box = false,
+        "no_fast_plane" => s.fast_plane = false,
+        "no_shadow_shortcut" if s.shadow_shortcut => s.shadow_shortcut = false,
+        "fast_methods" => (render.recip, render.sqrt) = (Method::Fast, Method::Fast),
+        "rotated_y_z_depth_8" => {
+            (camera.rotation_deg[1], camera.rotation_deg[2]) = (3.0, 7.0);
+            render.max_depth = golden::scene::MAX_DEPTH;
+        }
+        "depth_1" => render.max_depth = 1,
+        _ => return None,
+    }
+    let (light, spheres, planes) = (
+        scene.light.clone(),
+        scene.spheres.clone(),
+        scene.planes.clone(),
+    );
+    Scene::new(switch, camera, light, spheres, planes, render).ok()
+}
+
+/// The builtin scenes all use the bounding box and the fast plane test and
+/// never rotate about z: the paths of the controller they leave out, under
+/// Icarus against golden, on a grid of each reduced frame.
+#[test]
+#[ignore = "every builtin scene with its switches flipped, under Icarus: minutes"]
+fn builtin_scenes_with_other_switches_agree_under_icarus() {
+    if !icarus_present("builtin_scenes_with_other_switches_agree_under_icarus") {
+        return;
+    }
+    let switches = [
+        "no_speedups",
+        "no_bounding_box",
+        "no_fast_plane",
+        "no_shadow_shortcut",
+        "fast_methods",
+        "rotated_y_z_depth_8",
+        "depth_1",
+    ];
+    let scenes: Vec<_> = Scene::builtin_names()
+        .iter()
+        .flat_map(|name| {
+            let base = reduced(name);
+            switches.iter().filter_map(move |switch| {
+                let scene = switched(&base, switch)?;
+                let pixels = grid(&scene, 9);
+                Some((format!("{name}_{switch}"), scene, pixels))
+            })
         })
         .collect();
     assert_same(&scenes);

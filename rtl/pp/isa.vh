@@ -36,6 +36,7 @@
 `define ISA_DIM_REG_BITS 7   // register address (128 vector registers)
 `define ISA_DIM_ST_BITS 9    // controller FSM state id
 `define ISA_DIM_COORD_BITS 12  // pixel coordinates px, py (images up to 4096 x 4096)
+`define ISA_DIM_LANES 3        // lanes of a vector register (x, y, z: one float32 each) and of a lane mask
 
 // ---------------------------------------------------------------------------
 // ALU opcodes. Single-cycle unless noted.
@@ -147,16 +148,21 @@
 // (golden::micro::loader::Config), written through the scene port with
 // scene_cfg = 1 as one 96-bit value (lane x = bits 31:0). Bit offsets:
 // ---------------------------------------------------------------------------
-`define ISA_DIM_CFG_SPHERES_LSB 0    // 4 bits: spheres in the scene (0..8)
-`define ISA_DIM_CFG_PLANES_LSB 4     // 3 bits: planes (0..6)
-`define ISA_DIM_CFG_DEPTH_LSB 8      // 4 bits: stack levels used (1..8)
+`define ISA_DIM_CFG_SPHERES_LSB 0    // ISA_DIM_CFG_SPHERES_BITS bits: spheres in the scene (0..8)
+`define ISA_DIM_CFG_SPHERES_BITS 4
+`define ISA_DIM_CFG_PLANES_LSB 4     // ISA_DIM_CFG_PLANES_BITS bits: planes (0..6)
+`define ISA_DIM_CFG_PLANES_BITS 3
+`define ISA_DIM_CFG_DEPTH_LSB 8      // ISA_DIM_CFG_DEPTH_BITS bits: stack levels used (1..8)
+`define ISA_DIM_CFG_DEPTH_BITS 4
 `define ISA_DIM_CFG_BBOX_LSB 12      // 1 bit: bounding box test (thesis 3.10.1)
 `define ISA_DIM_CFG_FAST_PLANE_LSB 13  // 1 bit: fast plane test (3.10.2)
 `define ISA_DIM_CFG_SHORTCUT_LSB 14  // 1 bit: shadow shortcut (3.10.3)
-`define ISA_DIM_CFG_ROTATE_LSB 16    // 3 bits: rotate the primary ray about x, y, z
-`define ISA_DIM_CFG_SPH_BITS_LSB 32  // 3 bits per sphere k at + 3k: diffuse, specular, reflective
-`define ISA_DIM_CFG_PLN_BITS_LSB 56  // 3 bits per plane j at + 3j: diffuse, specular, reflective
-`define ISA_DIM_CFG_PLN_AXIS_LSB 74  // 2 bits per plane j at + 2j: its axis (0 = x)
+`define ISA_DIM_CFG_ROTATE_LSB 16    // ISA_DIM_ROT_COUNT bits: rotate the primary ray about x, y, z
+`define ISA_DIM_CFG_SPH_BITS_LSB 32  // ISA_DIM_CFG_MAT_BITS per sphere k at + MAT_BITS * k
+`define ISA_DIM_CFG_PLN_BITS_LSB 56  // ISA_DIM_CFG_MAT_BITS per plane j at + MAT_BITS * j
+`define ISA_DIM_CFG_MAT_BITS 3       // an object's material bits: diffuse (bit 0), specular, reflective
+`define ISA_DIM_CFG_PLN_AXIS_LSB 74  // ISA_DIM_CFG_AXIS_BITS per plane j at + AXIS_BITS * j: its axis (0 = x)
+`define ISA_DIM_CFG_AXIS_BITS 2
 `define ISA_DIM_CFG_PLN_NEG_LSB 86   // 1 bit per plane j at + j: facing is -1
 
 // ---------------------------------------------------------------------------
