@@ -416,3 +416,70 @@ fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
         other => panic!("expected a hung RTL error, got {other:?}"),
     }
 }
+
+/// Highlights only where the light reaches the surface: a sphere lit from
+/// behind shows the camera only its dark side (n·l <= 0), where an ungated
+/// Phong term would still put a highlight along the rim (r·l > 0 there: the
+/// test checks that such pixels exist). The specular weight must change no
+/// pixel in the f64 reference, in the micro-op model, or in the RTL, which
+/// agrees with the micro-op model bit for bit.
+#[test]
+fn the_dark_side_of_a_lit_sphere_gets_no_highlight_in_any_model() {
+    let scene_with = |ks: f32| {
+        let text = format!(
+            r#"
+[camera]
+eye = [0.0, 0.0, 0.0]
+distance = 40.0
+width = 48
+height = 48
+[light]
+position = [0.0, 0.0, 40.0]
+color = [1.0, 1.0, 1.0]
+[[sphere]]
+center = [0.0, 0.0, 12.0]
+radius = 4.0
+color = [1.0, 1.0, 1.0]
+diffuse = 0.5
+specular = {ks}
+reflection = 0.0
+[render]
+max_depth = 1
+"#
+        );
+        Scene::from_toml(&text, "dark side").expect("a valid scene")
+    };
+    let (shiny, matte) = (scene_with(0.9), scene_with(0.0));
+    let light = glam::DVec3::new(0.0, 0.0, 40.0);
+    let centre = glam::DVec3::new(0.0, 0.0, 12.0);
+    let mut rim = 0;
+    for y in 0..48 {
+        for x in 0..48 {
+            // Where the primary ray hits the sphere: is it a rim pixel that
+            // an ungated highlight would light?
+            let d = golden::reference::primary_direction(&shiny, x, y);
+            if let Some((_, t)) = golden::reference::nearest_hit(&shiny, glam::DVec3::ZERO, d, None)
+            {
+                let p = t * d;
+                let n = (p - centre).normalize();
+                let l = (light - p).normalize();
+                let r = d - 2.0 * d.dot(n) * n;
+                assert!(n.dot(l) <= 0.0, "({x}, {y}) is on the lit side");
+                rim += usize::from(r.dot(l) > 0.0);
+            }
+            assert_eq!(
+                golden::reference::render_pixel(&shiny, x, y),
+                golden::reference::render_pixel(&matte, x, y),
+                "reference ({x}, {y})"
+            );
+            let micro = |s: &Scene| golden::micro::render_pixel(s, x, y, |_, _| {}).rgb;
+            assert_eq!(micro(&shiny), micro(&matte), "micro ({x}, {y})");
+        }
+    }
+    assert!(
+        rim > 10,
+        "only {rim} pixels where an ungated highlight would show"
+    );
+    // The RTL computes the same gated colours, bit for bit.
+    assert_agrees(&cosim_all(&shiny, Window::full(&shiny)), 48 * 48);
+}

@@ -73,7 +73,10 @@ fn an_unknown_method_fails_elaboration() {
         }
     }
     let (ok, stderr) = verilate_lint(Some("pixel_processor"), &["-GRECIP_METHOD=5"]);
-    assert!(!ok, "pixel_processor with RECIP_METHOD=5 elaborated:\n{stderr}");
+    assert!(
+        !ok,
+        "pixel_processor with RECIP_METHOD=5 elaborated:\n{stderr}"
+    );
 }
 
 #[test]

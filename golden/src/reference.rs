@@ -27,8 +27,12 @@
 //!   bounded), incoming d, material (C, kd, ks, kr), light
 //!   (L, Lc): `l = normalize(L - p)` (zero if p is the light); the light is visible unless another
 //!   object is hit along (p, l) with `t < |L - p|`. If visible,
-//!   `local = kd·max(n·l, 0)·(C∘Lc) + ks·max(r·l, 0)^20·Lc` with
-//!   `r = d - 2(d·n)n`; otherwise 0. No ambient light; a miss is black.
+//!   `local = kd·(n·l)·(C∘Lc) + ks·max(r·l, 0)^20·Lc` where `n·l > 0`
+//!   (both terms gated: light reaches only the lit side), with
+//!   `r = d - 2(d·n)n` (the Phong highlight: thesis eq. 11 writes `d·l`);
+//!   otherwise 0. No ambient light; a miss is black. Planes are one-sided,
+//!   as in the fast-plane hack of thesis 3.10.2 (its 3.3.2 intersects both
+//!   sides).
 //! - `shade(ray, depth) = local + kr·shade(reflected ray, depth + 1)` when
 //!   `kr > 0` and `depth + 1 < max_depth` (the primary ray has depth 0).
 
@@ -209,8 +213,18 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
     let mut color = DVec3::ZERO;
     if light_visible(scene, p, obj) {
         let l = (dvec(scene.light.position) - p).normalize_or_zero();
-        let diffuse = f64::from(m.diffuse) * n.dot(l).max(0.0);
-        let specular = f64::from(m.specular) * r.dot(l).max(0.0).powi(SPECULAR_EXPONENT);
+        // Light reaches the surface only where n·l > 0: both terms are
+        // gated on it (the highlight too: a ray never tests the object it
+        // leaves for shadow, so the dark side of a sphere can see the light).
+        let n_l = n.dot(l);
+        let (diffuse, specular) = if n_l > 0.0 {
+            (
+                f64::from(m.diffuse) * n_l,
+                f64::from(m.specular) * r.dot(l).max(0.0).powi(SPECULAR_EXPONENT),
+            )
+        } else {
+            (0.0, 0.0)
+        };
         color = diffuse * (dvec(m.color) * light_color) + specular * light_color;
     }
     let kr = f64::from(m.reflection);

@@ -156,6 +156,7 @@ module pp_ctrl (
     reg             kind_q, kind_d;           // the object under test
     reg [OW-1:0]    idx_q, idx_d;
     reg             found_q, found_d;         // nearest_hit: a hit so far; shadowed: true
+    reg             facing_q, facing_d;       // shade: lit and n.l > 0 (the light reaches the surface)
     reg             best_kind_q, best_kind_d; // nearest_hit: the nearest hit so far
     reg [OW-1:0]    best_idx_q, best_idx_d;
     reg             excl_q, excl_d;           // obj is excluded from searches
@@ -179,6 +180,7 @@ module pp_ctrl (
             kind_q      <= K_SPH;
             idx_q       <= {OW{1'b0}};
             found_q     <= 1'b0;
+            facing_q    <= 1'b0;
             best_kind_q <= K_SPH;
             best_idx_q  <= {OW{1'b0}};
             excl_q      <= 1'b0;
@@ -202,6 +204,7 @@ module pp_ctrl (
             kind_q      <= kind_d;
             idx_q       <= idx_d;
             found_q     <= found_d;
+            facing_q    <= facing_d;
             best_kind_q <= best_kind_d;
             best_idx_q  <= best_idx_d;
             excl_q      <= excl_d;
@@ -395,15 +398,18 @@ module pp_ctrl (
     wire [JW-1:0] stay       = {st_q, sp_q, call_q, kind_q, idx_q};
     wire [JW-1:0] unwind_now = {unwind(sp_q, col_q), call_q, kind_q, idx_q};
 
-    // shade, from the term `from` on (diffuse, reflected direction, specular,
-    // local colour): the next term the object's bits and the shadow test
+    // shade, from the term `from` on (n.l and diffuse, reflected direction,
+    // specular, local colour): the next term the object's bits and `lit`
     // call for, else the colour, the child's weight, or the unwinding.
+    // Before n.l (from S_DIFFUSE), `lit` is !shadowed; after it, the light
+    // reaches the surface: lit and n.l > 0 (facing_q).
     function [JW-1:0] shade_next(input [1:0] from, input lit, input diff, input spec,
                                  input [MB-1:0] mat, input push, input [JW-1:0] stay_j,
                                  input [JW-1:0] unwind_j);
         begin
             shade_next = stay_j;
-            if (from <= S_DIFFUSE && lit && mat[MAT_DIFFUSE]) begin
+            // n.l, once for both terms: both are gated on n.l > 0.
+            if (from <= S_DIFFUSE && lit && (mat[MAT_DIFFUSE] || mat[MAT_SPECULAR])) begin
                 shade_next[J_ST +: SW]      = `ISA_ST_DOT_1;
                 shade_next[J_CALL +: CALLW] = D_DIFFUSE;
             end
@@ -536,6 +542,7 @@ module pp_ctrl (
         kind_d      = kind_q;
         idx_d       = idx_q;
         found_d     = found_q;
+        facing_d    = facing_q;
         best_kind_d = best_kind_q;
         best_idx_d  = best_idx_q;
         excl_d      = excl_q;
@@ -615,18 +622,21 @@ module pp_ctrl (
                     D_SPHERE:
                         if (y_neg[0]) st_d = `ISA_ST_SPH_BD;
                         else {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_after;
-                    // shade: n.l > 0, or no diffuse term.
-                    D_DIFFUSE:
-                        if (y_pos[0]) st_d = `ISA_ST_SH_KD;
+                    // shade: n.l > 0 and a diffuse term, or on to the
+                    // reflection and the (gated) highlight.
+                    D_DIFFUSE: begin
+                        facing_d = y_pos[0];
+                        if (y_pos[0] && obj_bits[MAT_DIFFUSE]) st_d = `ISA_ST_SH_KD;
                         else {st_d, sp_d, call_d, kind_d, idx_d} =
-                            shade_next(S_REFLECT, !found_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                            shade_next(S_REFLECT, y_pos[0], diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                    end
                     D_REFLECT:
                         st_d = `ISA_ST_SH_REFL_K;
                     // shade: r.l > 0, or no specular term.
                     default:
                         if (y_pos[0]) st_d = `ISA_ST_SH_POW2;
                         else {st_d, sp_d, call_d, kind_d, idx_d} =
-                            shade_next(S_LOCAL, !found_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                            shade_next(S_LOCAL, facing_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
                 endcase
             end
 
@@ -842,6 +852,7 @@ module pp_ctrl (
                 excl_d     = 1'b1;
                 diff_d     = 1'b0;
                 spec_d     = 1'b0;
+                facing_d   = 1'b0;
                 st_d       = `ISA_ST_SH_POINT;
             end
             // p = o + t d
@@ -880,7 +891,7 @@ module pp_ctrl (
                 op = `ISA_OP_MULX; la_w = T_S; la_a = T_S; la_b = T_G;
                 diff_d = 1'b1;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_REFLECT, !found_q, 1'b1, spec_q, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_REFLECT, facing_q, 1'b1, spec_q, obj_bits, push_q, stay, unwind_now);
             end
             // U = 2 (d.n) n
             `ISA_ST_SH_REFL_K: begin
@@ -894,7 +905,7 @@ module pp_ctrl (
                 dneg_d  = y_neg;
                 dpos_d  = y_pos;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_SPECULAR, !found_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_SPECULAR, facing_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
             end
             // U.x = x^2, x^4, x^5, x^10, x^20 (x = r.l)
             `ISA_ST_SH_POW2: begin
@@ -927,7 +938,7 @@ module pp_ctrl (
                 op = `ISA_OP_MULY; la_w = T_G; la_a = `ISA_REG_LIGHT_COL; la_b = T_V;
                 spec_d = 1'b1;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_LOCAL, !found_q, diff_q, 1'b1, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_LOCAL, facing_q, diff_q, 1'b1, obj_bits, push_q, stay, unwind_now);
             end
             // S = diffuse + specular
             `ISA_ST_SH_LOCAL: begin

@@ -519,9 +519,17 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         self.normalize(t::L, t::R);
         let lit = !self.shadowed(ray.p, obj);
 
+        // n.l, once for both terms: light reaches the surface only where
+        // n.l > 0, so both the diffuse term and the highlight are gated on
+        // it. (Thesis eq. 11 gates neither explicitly; an object is never
+        // tested against itself for shadow, so without the gate the dark
+        // side of a sphere that sees the light past its own edge got a
+        // highlight.)
+        let faces_light = lit && (bits.diffuse || bits.specular) && self.dot(t::V, n, t::L).pos(0);
+
         // Diffuse: kd * max(n.l, 0) * (C * Lc); a zero term is skipped.
         let mut diffuse = None;
-        if lit && bits.diffuse && self.dot(t::V, n, t::L).pos(0) {
+        if faces_light && bits.diffuse {
             let c = &mut self.core;
             c.mulx(State::SH_KD, t::G, mat, t::V, Lanes::X);
             c.mul(State::SH_CL, t::S, colour, Reg::LIGHT_COL, Lanes::XYZ);
@@ -531,7 +539,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
         // r = d - 2 (d.n) n, after the shadow test so that its direction
         // flags are the last latched before the child's search.
-        if push || (lit && bits.specular) {
+        if push || (faces_light && bits.specular) {
             self.dot(t::Q, ray.d, n);
             let c = &mut self.core;
             c.mul2x(State::SH_REFL_K, t::U, n, t::Q, Lanes::XYZ); // k = 2 (d.n) n
@@ -539,9 +547,10 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             self.dir = DirFlags::of(&r);
         }
 
-        // Specular: ks * max(r.l, 0)^20 * Lc.
+        // Specular (the Phong form: thesis eq. 11 writes d.l, we use the
+        // reflected ray r.l): ks * max(r.l, 0)^20 * Lc, where n.l > 0.
         let mut specular = None;
-        if lit && bits.specular && self.dot(t::Q, ray.r, t::L).pos(0) {
+        if faces_light && bits.specular && self.dot(t::Q, ray.r, t::L).pos(0) {
             let c = &mut self.core;
             c.mul(State::SH_POW2, t::U, t::Q, t::Q, Lanes::X);
             c.mul(State::SH_POW4, t::U, t::U, t::U, Lanes::X);
