@@ -158,7 +158,7 @@ fn simulate(name: &str, scene: &Scene, pixels: &[(u32, u32)]) -> Vec<SimPixel> {
     let shards = std::thread::available_parallelism().map_or(1, |n| n.get());
     let per_shard = pixels.len().div_ceil(shards).max(1);
     std::thread::scope(|s| {
-        let runs: Vec<_> = pixels
+        let threads: Vec<_> = pixels
             .chunks(per_shard)
             .enumerate()
             .map(|(i, chunk)| {
@@ -174,8 +174,9 @@ fn simulate(name: &str, scene: &Scene, pixels: &[(u32, u32)]) -> Vec<SimPixel> {
                 })
             })
             .collect();
-        runs.into_iter()
-            .flat_map(|r| r.join().expect("a vvp shard panicked"))
+        threads
+            .into_iter()
+            .flat_map(|t| t.join().expect("a vvp shard panicked"))
             .collect()
     })
 }
@@ -261,11 +262,23 @@ fn grid(scene: &Scene, step: u32) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// Pixels of a scene to run, under a name that is also its work directory.
+struct Run {
+    name: String,
+    scene: Scene,
+    pixels: Vec<(u32, u32)>,
+}
+
 /// Runs every scene's pixels and fails, after all of them, if any pixel
 /// differs from golden.
-fn assert_same(scenes: &[(String, Scene, Vec<(u32, u32)>)]) {
+fn assert_same(runs: &[Run]) {
     let mut failures = Vec::new();
-    for (name, scene, pixels) in scenes {
+    for Run {
+        name,
+        scene,
+        pixels,
+    } in runs
+    {
         let start = std::time::Instant::now();
         let got = simulate(name, scene, pixels);
         let diff = differences(scene, &got);
@@ -294,7 +307,7 @@ fn sampled_pixels_of_every_builtin_scene_agree_under_icarus() {
     if !icarus_present("sampled_pixels_of_every_builtin_scene_agree_under_icarus") {
         return;
     }
-    let scenes: Vec<_> = Scene::builtin_names()
+    let runs: Vec<_> = Scene::builtin_names()
         .iter()
         .map(|name| {
             let scene = reduced(name);
@@ -302,10 +315,14 @@ fn sampled_pixels_of_every_builtin_scene_agree_under_icarus() {
             if *name == "reference" {
                 pixels.extend_from_slice(REFERENCE_FORMERLY_DIFFERENT);
             }
-            (format!("sample_{name}"), scene, pixels)
+            Run {
+                name: format!("sample_{name}"),
+                scene,
+                pixels,
+            }
         })
         .collect();
-    assert_same(&scenes);
+    assert_same(&runs);
 }
 
 #[test]
@@ -315,7 +332,7 @@ fn every_builtin_scene_agrees_under_icarus() {
         return;
     }
     let only = std::env::var("RTCOSIM_ICARUS_SCENES").ok();
-    let scenes: Vec<_> = Scene::builtin_names()
+    let runs: Vec<_> = Scene::builtin_names()
         .iter()
         .filter(|name| {
             only.as_deref()
@@ -326,10 +343,14 @@ fn every_builtin_scene_agrees_under_icarus() {
             let (w, h) = (scene.camera.width, scene.camera.height);
             let pixels: Vec<(u32, u32)> =
                 (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).collect();
-            (format!("frame_{name}"), scene, pixels)
+            Run {
+                name: format!("frame_{name}"),
+                scene,
+                pixels,
+            }
         })
         .collect();
-    assert_same(&scenes);
+    assert_same(&runs);
 }
 
 /// `scene` with one of its switches flipped, if the scene still validates
@@ -377,16 +398,20 @@ fn builtin_scenes_with_other_switches_agree_under_icarus() {
         "rotated_y_z_depth_8",
         "depth_1",
     ];
-    let scenes: Vec<_> = Scene::builtin_names()
+    let runs: Vec<_> = Scene::builtin_names()
         .iter()
         .flat_map(|name| {
             let base = reduced(name);
             switches.iter().filter_map(move |switch| {
                 let scene = switched(&base, switch)?;
                 let pixels = grid(&scene, 9);
-                Some((format!("{name}_{switch}"), scene, pixels))
+                Some(Run {
+                    name: format!("{name}_{switch}"),
+                    scene,
+                    pixels,
+                })
             })
         })
         .collect();
-    assert_same(&scenes);
+    assert_same(&runs);
 }

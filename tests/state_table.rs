@@ -151,7 +151,9 @@ fn every_golden_event_comes_from_where_the_table_says() {
     let table = table();
     let functions = rust_functions(&read(PROGRAM));
     let mut seen: BTreeSet<(String, String)> = BTreeSet::new();
-    let mut wrong: BTreeMap<(String, String), (String, &str, (u32, u32))> = BTreeMap::new();
+    // (state, function) -> where it was first seen: line, scene, pixel.
+    type FirstSeen<'a> = (String, &'a str, (u32, u32));
+    let mut wrong: BTreeMap<(String, String), FirstSeen> = BTreeMap::new();
     let mut fn_of_line: HashMap<u32, String> = HashMap::new();
     let mut events = 0u64;
     for name in Scene::builtin_names() {

@@ -149,11 +149,11 @@
 // scene_cfg = 1 as one 96-bit value (lane x = bits 31:0). Bit offsets:
 // ---------------------------------------------------------------------------
 `define ISA_DIM_CFG_SPHERES_LSB 0    // ISA_DIM_CFG_SPHERES_BITS bits: spheres in the scene (0..8)
-`define ISA_DIM_CFG_SPHERES_BITS 4
+`define ISA_DIM_CFG_SPHERES_BITS 4  // width of the sphere count
 `define ISA_DIM_CFG_PLANES_LSB 4     // ISA_DIM_CFG_PLANES_BITS bits: planes (0..6)
-`define ISA_DIM_CFG_PLANES_BITS 3
+`define ISA_DIM_CFG_PLANES_BITS 3   // width of the plane count
 `define ISA_DIM_CFG_DEPTH_LSB 8      // ISA_DIM_CFG_DEPTH_BITS bits: stack levels used (1..8)
-`define ISA_DIM_CFG_DEPTH_BITS 4
+`define ISA_DIM_CFG_DEPTH_BITS 4    // width of the stack depth
 `define ISA_DIM_CFG_BBOX_LSB 12      // 1 bit: bounding box test (thesis 3.10.1)
 `define ISA_DIM_CFG_FAST_PLANE_LSB 13  // 1 bit: fast plane test (3.10.2)
 `define ISA_DIM_CFG_SHORTCUT_LSB 14  // 1 bit: shadow shortcut (3.10.3)
@@ -162,7 +162,7 @@
 `define ISA_DIM_CFG_PLN_BITS_LSB 56  // ISA_DIM_CFG_MAT_BITS per plane j at + MAT_BITS * j
 `define ISA_DIM_CFG_MAT_BITS 3       // an object's material bits: diffuse (bit 0), specular, reflective
 `define ISA_DIM_CFG_PLN_AXIS_LSB 74  // ISA_DIM_CFG_AXIS_BITS per plane j at + AXIS_BITS * j: its axis (0 = x)
-`define ISA_DIM_CFG_AXIS_BITS 2
+`define ISA_DIM_CFG_AXIS_BITS 2     // width of a plane's axis
 `define ISA_DIM_CFG_PLN_NEG_LSB 86   // 1 bit per plane j at + j: facing is -1
 
 // ---------------------------------------------------------------------------
