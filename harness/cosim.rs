@@ -15,6 +15,7 @@
 use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
 use golden::fp::Method;
+use golden::frame::Frame;
 use golden::micro::isa::state_label;
 use golden::micro::Processor;
 use golden::pixel::PixelOutcome;
@@ -32,6 +33,8 @@ pub struct CosimOptions {
     pub fault: Option<Fault>,
     /// Cycles a pixel may take before the RTL counts as hung.
     pub timeout_cycles: u64,
+    /// Keep both sides' colours of every pixel ([`CosimReport::frames`]).
+    pub keep_frames: bool,
 }
 
 impl Default for CosimOptions {
@@ -39,12 +42,13 @@ impl Default for CosimOptions {
         CosimOptions {
             fault: None,
             timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+            keep_frames: false,
         }
     }
 }
 
 /// What a co-simulation found: the comparison, and what was run.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CosimReport {
     pub recip: Method,
     pub sqrt: Method,
@@ -52,6 +56,38 @@ pub struct CosimReport {
     pub fault: Option<Fault>,
     /// The RTL (side A) against golden (side B).
     pub compare: CompareReport,
+    /// Both sides' colours of the window, when [`CosimOptions::keep_frames`]
+    /// asked for them.
+    pub frames: Option<Frames>,
+}
+
+/// The colours both sides computed for a window, as frames of the window's
+/// size (pixel (0, 0) is the window's top-left corner).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frames {
+    /// The RTL's colours.
+    pub rtl: Frame,
+    /// The golden micro-op model's colours.
+    pub golden: Frame,
+}
+
+impl Frames {
+    /// Frames from row-major colour bits of `window`, RTL and golden.
+    fn from_rows(window: Window, rows: Vec<Vec<([u32; 3], [u32; 3])>>) -> Frames {
+        let pixels: Vec<_> = rows.into_iter().flatten().collect();
+        let frame = |side: fn(&([u32; 3], [u32; 3])) -> [u32; 3]| {
+            let pixels = pixels
+                .iter()
+                .map(|p| side(p).map(|c| f64::from(f32::from_bits(c))))
+                .collect();
+            Frame::from_pixels(window.width, window.height, pixels)
+                .expect("one colour per pixel of the window")
+        };
+        Frames {
+            rtl: frame(|p| p.0),
+            golden: frame(|p| p.1),
+        }
+    }
 }
 
 impl CosimReport {
@@ -158,12 +194,16 @@ pub fn run_on(
     let golden = Processor::new(scene);
     let mut compare = CompareReport::new(Labels::rtl_golden());
     let mut events = Vec::new();
+    let mut colours = Vec::new();
     for (x, y) in window.iter() {
         let verdict = compare_one(rtl, &mut events, &golden, x, y)?;
         each(&verdict);
         compare.add(&verdict);
+        if options.keep_frames {
+            colours.push((verdict.a.rgb, verdict.b.rgb));
+        }
     }
-    Ok(report(scene, window, options, compare))
+    Ok(report(scene, window, options, compare, vec![colours]))
 }
 
 fn report(
@@ -171,6 +211,7 @@ fn report(
     window: Window,
     options: &CosimOptions,
     compare: CompareReport,
+    colours: Vec<Vec<([u32; 3], [u32; 3])>>,
 ) -> CosimReport {
     CosimReport {
         recip: scene.render.recip,
@@ -178,6 +219,9 @@ fn report(
         window,
         fault: options.fault,
         compare,
+        frames: options
+            .keep_frames
+            .then(|| Frames::from_rows(window, colours)),
     }
 }
 
@@ -196,15 +240,17 @@ pub fn run(
     let golden = Processor::new(scene);
     let empty = || CompareReport::new(Labels::rtl_golden());
     let failed = AtomicBool::new(false);
-    let rows: Vec<Result<CompareReport, PpError>> = window
+    type Row = (CompareReport, Vec<([u32; 3], [u32; 3])>);
+    let rows: Vec<Result<Row, PpError>> = window
         .rows()
         .into_par_iter()
         .map_init(
             || None::<Worker>,
             |worker, y| {
                 let mut report = empty();
+                let mut colours = Vec::new();
                 if failed.load(Ordering::Relaxed) {
-                    return Ok(report);
+                    return Ok((report, colours));
                 }
                 let row = (|| {
                     let w = match worker {
@@ -214,6 +260,9 @@ pub fn run(
                     for x in window.columns() {
                         let v = compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?;
                         report.add(&v);
+                        if options.keep_frames {
+                            colours.push((v.a.rgb, v.b.rgb));
+                        }
                     }
                     Ok(())
                 })();
@@ -224,13 +273,16 @@ pub fn run(
                     return Err(e);
                 }
                 progress(u64::from(window.width));
-                Ok(report)
+                Ok((report, colours))
             },
         )
         .collect();
     let mut compare = empty();
+    let mut colours = Vec::new();
     for row in rows {
-        compare.merge(row?);
+        let (report, row_colours) = row?;
+        compare.merge(report);
+        colours.push(row_colours);
     }
-    Ok(report(scene, window, options, compare))
+    Ok(report(scene, window, options, compare, colours))
 }

@@ -80,6 +80,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let options = CosimOptions {
         fault: args.fault,
         timeout_cycles: args.timeout_cycles,
+        ..CosimOptions::default()
     };
     let bar = progress_bar(
         window.pixels(),

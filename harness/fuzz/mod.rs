@@ -226,6 +226,7 @@ pub fn run(
     let cosim_options = CosimOptions {
         fault: options.fault,
         timeout_cycles: options.timeout_cycles,
+        keep_frames: false,
     };
     let outcomes: Vec<SceneOutcome> = (options.first..options.first + options.count)
         .into_par_iter()
