@@ -97,6 +97,7 @@ fn run() -> Result<(), String> {
 
     let fp_dir = manifest.join("rtl/fp");
     let pp_dir = manifest.join("rtl/pp");
+    write_state_lines(&pp_dir.join("pp_ctrl.v"), &out.join("rtl_state_lines.rs"))?;
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let fp_sources = verilog_sources(&[&fp_dir])?;
     let pp_sources = verilog_sources(&[&pp_dir, &fp_dir])?;
@@ -492,6 +493,51 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
 }
 
 /// Every `*.v` of `dirs`, sorted within each directory.
+/// Writes `$OUT_DIR/rtl_state_lines.rs`: the line of every case item of the
+/// controller's `case (st_q)` in `pp_ctrl`, by state name (the item's
+/// `` `ISA_ST_<NAME> `` labels), so that reports can name the Verilog line
+/// that decodes a state. A `case (st_q)` that cannot be found is an error.
+fn write_state_lines(pp_ctrl: &Path, out: &Path) -> Result<(), String> {
+    let text = fs::read_to_string(pp_ctrl)
+        .map_err(|e| format!("{}: cannot read: {e}", pp_ctrl.display()))?;
+    let lines: Vec<&str> = text.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| l.trim_start().starts_with("case (st_q)"))
+        .ok_or_else(|| {
+            format!(
+                "{}: no `case (st_q)` to map states to lines",
+                pp_ctrl.display()
+            )
+        })?;
+    let indent = |l: &str| l.len() - l.trim_start().len();
+    let case_indent = indent(lines[start]);
+    let mut items = String::new();
+    for (i, line) in lines.iter().enumerate().skip(start + 1) {
+        let code = line.split("//").next().unwrap_or_default();
+        if code.trim() == "endcase" && indent(line) == case_indent {
+            break;
+        }
+        // An item: `ISA_ST_A, `ISA_ST_B: ... at the start of the line.
+        let Some(labels) = code.trim_start().strip_prefix('`').and_then(|c| {
+            let colon = c.find(':')?;
+            Some(&c[..colon])
+        }) else {
+            continue;
+        };
+        for label in format!("`{labels}").split(',') {
+            if let Some(name) = label.trim().strip_prefix("`ISA_ST_") {
+                items += &format!("    ({name:?}, {}),\n", i + 1);
+            }
+        }
+    }
+    let code = format!(
+        "/// (state name, line) of every item of `case (st_q)` in rtl/pp/pp_ctrl.v.\n\
+         pub const PP_CTRL_STATE_LINES: &[(&str, u32)] = &[\n{items}];\n"
+    );
+    fs::write(out, code).map_err(|e| format!("{}: {e}", out.display()))
+}
+
 fn verilog_sources(dirs: &[&Path]) -> Result<Vec<PathBuf>, String> {
     let mut all = Vec::new();
     for dir in dirs {

@@ -61,6 +61,9 @@ pub struct CosimReport {
     pub frames: Option<Frames>,
 }
 
+/// One pixel's colour bits: the RTL's and golden's.
+type Colours = ([u32; 3], [u32; 3]);
+
 /// The colours both sides computed for a window, as frames of the window's
 /// size (pixel (0, 0) is the window's top-left corner).
 #[derive(Debug, Clone, PartialEq)]
@@ -73,9 +76,9 @@ pub struct Frames {
 
 impl Frames {
     /// Frames from row-major colour bits of `window`, RTL and golden.
-    fn from_rows(window: Window, rows: Vec<Vec<([u32; 3], [u32; 3])>>) -> Frames {
+    fn from_rows(window: Window, rows: Vec<Vec<Colours>>) -> Frames {
         let pixels: Vec<_> = rows.into_iter().flatten().collect();
-        let frame = |side: fn(&([u32; 3], [u32; 3])) -> [u32; 3]| {
+        let frame = |side: fn(&Colours) -> [u32; 3]| {
             let pixels = pixels
                 .iter()
                 .map(|p| side(p).map(|c| f64::from(f32::from_bits(c))))
@@ -211,7 +214,7 @@ fn report(
     window: Window,
     options: &CosimOptions,
     compare: CompareReport,
-    colours: Vec<Vec<([u32; 3], [u32; 3])>>,
+    colours: Vec<Vec<Colours>>,
 ) -> CosimReport {
     CosimReport {
         recip: scene.render.recip,
@@ -240,7 +243,7 @@ pub fn run(
     let golden = Processor::new(scene);
     let empty = || CompareReport::new(Labels::rtl_golden());
     let failed = AtomicBool::new(false);
-    type Row = (CompareReport, Vec<([u32; 3], [u32; 3])>);
+    type Row = (CompareReport, Vec<Colours>);
     let rows: Vec<Result<Row, PpError>> = window
         .rows()
         .into_par_iter()

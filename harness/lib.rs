@@ -24,6 +24,7 @@ pub mod fp_unit;
 pub mod fuzz;
 pub mod operands;
 pub mod pixel_proc;
+pub mod rtl_source;
 pub mod scenes;
 pub mod trace_files;
 

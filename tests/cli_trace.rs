@@ -5,7 +5,7 @@
 
 use golden::micro::{isa, Processor};
 use golden::scene::Scene;
-use golden::trace::{format_event, TraceEvent, TraceReader};
+use golden::trace::{format_record, TraceEvent, TraceReader, TraceRecord, TraceSide};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -67,19 +67,33 @@ fn the_trace_file_holds_the_golden_models_events_for_the_window() {
         .resized(80, 60, "test")
         .expect("resized");
     let proc = Processor::new(&scene);
-    let mut expected: Vec<TraceEvent> = Vec::new();
+    let mut expected: Vec<TraceRecord> = Vec::new();
     let mut writes = 0;
     for y in 28..=30 {
         for x in 38..=41 {
-            let r = proc.render_pixel(x, y, |e: &TraceEvent, _: &_| expected.push(*e));
+            let r = proc.render_pixel(x, y, |e: &TraceEvent, _: &_| {
+                expected.push(TraceRecord::Event(*e))
+            });
             writes += r.ops.register_writes;
+            expected.push(TraceRecord::PixelEnd {
+                x: x as u16,
+                y: y as u16,
+                rgb: r.rgb.map(f32::to_bits),
+                cycles: r.cycles as u32,
+            });
         }
     }
-    assert_eq!(expected.len() as u64, writes);
+    assert_eq!(expected.len() as u64, writes + 12);
 
     let file = std::fs::File::open(&rtt).expect("the trace file exists");
     let reader = TraceReader::new(std::io::BufReader::new(file)).expect("a trace file");
-    assert_eq!(reader.header().scene_hash, scene.content_hash());
+    assert_eq!(reader.header().side, TraceSide::Golden);
+    assert_eq!(reader.header().scene_hash, scene.render_hash());
+    assert_eq!(reader.header().config_hash, scene.config_hash());
+    assert_eq!(
+        Scene::from_toml(&reader.header().scene, "header").expect("the scene reads back"),
+        scene
+    );
     let config = &reader.header().config;
     for field in [
         "model=micro",
@@ -89,17 +103,17 @@ fn the_trace_file_holds_the_golden_models_events_for_the_window() {
     ] {
         assert!(config.contains(field), "{field} missing from {config:?}");
     }
-    let events: Vec<TraceEvent> = reader
+    let records: Vec<TraceRecord> = reader
         .collect::<Result<_, _>>()
         .expect("every record reads");
-    assert_eq!(events.len(), expected.len());
+    assert_eq!(records.len(), expected.len());
     assert!(
-        events == expected,
-        "the file's events differ from the model's"
+        records == expected,
+        "the file's records differ from the model's"
     );
     let stdout = text(&out.stdout);
     assert!(
-        stdout.contains(&format!("{} trace events of 12 pixels", events.len())),
+        stdout.contains(&format!("{writes} trace events of 12 pixels")),
         "{stdout}"
     );
 
@@ -108,16 +122,21 @@ fn the_trace_file_holds_the_golden_models_events_for_the_window() {
     assert!(dump.status.success(), "{}", text(&dump.stderr));
     let dump = text(&dump.stdout);
     let lines: Vec<&str> = dump.lines().collect();
-    assert_eq!(lines.len(), events.len() + 3);
+    assert_eq!(lines.len(), records.len() + 3);
     assert!(
-        lines[0].starts_with('#') && lines[0].contains(&format!("{:016x}", scene.content_hash()))
+        lines[0].starts_with('#')
+            && lines[0].contains("written by the golden")
+            && lines[0].contains(&format!("{:016x}", scene.render_hash()))
     );
     assert_eq!(
         lines[2],
-        format_event(&events[0], &isa::state_name, &isa::register_name)
+        format_record(&records[0], &isa::state_name, &isa::register_name)
     );
     assert!(lines[2].contains("PRI_ITOF"), "{}", lines[2]);
-    assert_eq!(lines[lines.len() - 1], format!("# {} events", events.len()));
+    assert_eq!(
+        lines[lines.len() - 1],
+        format!("# {writes} events, 12 pixels")
+    );
 }
 
 #[test]
@@ -143,8 +162,8 @@ fn one_pixel_can_be_traced_as_x_comma_y() {
     let scene = Scene::reference().resized(40, 30, "test").expect("resized");
     let r = Processor::new(&scene).render_pixel(20, 15, |_, _| {});
     let file = std::fs::File::open(&rtt).expect("the trace file exists");
-    let events = TraceReader::new(file).expect("a trace file").count() as u64;
-    assert_eq!(events, r.ops.register_writes);
+    let records = TraceReader::new(file).expect("a trace file").count() as u64;
+    assert_eq!(records, r.ops.register_writes + 1, "the events and the end");
 }
 
 #[test]

@@ -163,18 +163,13 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
             .unwrap_or_else(|| panic!("a fault in {name} went unnoticed\n{report}"));
         assert_eq!((d.x, d.y), (window.x, window.y), "{report}");
         assert_eq!(d.seq(), Some(seq), "{report}");
-        let DivergenceKind::Event {
-            a: rtl,
-            b: golden,
-            at,
-        } = d.kind
-        else {
+        let DivergenceKind::Event { a: rtl, b: golden } = d.kind else {
             panic!("not an event divergence\n{report}");
         };
         assert_eq!((rtl.state, golden.state), (fault_state, fault_state));
         assert_eq!((rtl.dst, rtl.lanes), (golden.dst, golden.lanes));
         assert_eq!(rtl.values[0], golden.values[0] ^ xor, "{report}");
-        assert_eq!(at, Some(line));
+        assert_eq!(d.b_at, Some(line));
         assert!(
             d.max_distance().is_some_and(|u| u > UlpDistance::Ulps(0)),
             "{report}"
@@ -186,8 +181,9 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
             "{report}"
         );
         let text = report.to_string();
+        let verilog = rtcosim::rtl_source::state_line(fault_state).expect("mapped");
         assert!(
-            text.contains(&format!("RTL state {name} ({fault_state})")),
+            text.contains(&format!("RTL    state {name} ({fault_state}) [{verilog}]")),
             "{text}"
         );
         assert!(
@@ -482,4 +478,60 @@ max_depth = 1
     );
     // The RTL computes the same gated colours, bit for bit.
     assert_agrees(&cosim_all(&shiny, Window::full(&shiny)), 48 * 48);
+}
+
+/// The micro-op model's fault (Processor::with_fault) is the RTL's fault
+/// port, bit for bit: with the same fault on both sides, every event,
+/// colour and cycle count still agrees, though the fault changes them
+/// (against a clean model it diverges on every pixel), including faults
+/// that send a branch another way.
+#[test]
+fn the_golden_fault_is_the_rtl_fault_bit_for_bit() {
+    use rtcosim::compare::{compare_pixel, Tolerance};
+    let scene = builtin("reference", 40, 30);
+    let window = Window::new(8, 6, 10, 8);
+    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model");
+    rtl.load_scene(&scene).expect("loads");
+    for fault in [
+        Fault {
+            state: state::PRI_HALF,
+            xor: 1 << 12,
+        },
+        // The sign of the light vector's length: another branch.
+        Fault {
+            state: state::NORM_ROOTS,
+            xor: 0x8000_0000,
+        },
+    ] {
+        rtl.set_fault(Some(fault));
+        let faulty = golden::micro::Processor::new(&scene).with_fault(Some(fault));
+        let clean = golden::micro::Processor::new(&scene);
+        let (mut events, mut apart_from_clean) = (Vec::new(), 0);
+        for (x, y) in window.iter() {
+            events.clear();
+            let a = rtl.run_pixel(x, y, Some(&mut events)).expect("runs");
+            for (golden, expect_same) in [(&faulty, true), (&clean, false)] {
+                let v = compare_pixel(x, y, Tolerance::default(), &events, a, |sink| {
+                    let r = golden.render_pixel(x, y, |e, at| sink(e, Some(at)));
+                    golden::pixel::PixelOutcome::from(&r)
+                });
+                if expect_same {
+                    assert!(
+                        !v.diverged(),
+                        "{fault:?}: {}",
+                        v.first
+                            .expect("diverged")
+                            .text(&rtcosim::compare::Labels::rtl_golden())
+                    );
+                } else {
+                    apart_from_clean += u64::from(v.diverged());
+                }
+            }
+        }
+        assert_eq!(
+            apart_from_clean,
+            window.pixels(),
+            "{fault:?} changes every pixel"
+        );
+    }
 }

@@ -281,3 +281,36 @@ fn pp_ctrl_has_one_case_item_per_state_and_names_its_functions_after_golden() {
     }
     assert!(!rtl.contains("task "), "{PP_CTRL}: tasks are gone");
 }
+
+/// Every ISA state the controller decodes is mapped to its line, and the
+/// mapped line of pp_ctrl.v, read here on its own, is the case item that
+/// names the state.
+#[test]
+fn every_state_maps_to_the_verilog_line_that_decodes_it() {
+    use rtcosim::rtl_source::{state_line, PP_CTRL_STATE_LINES};
+    let rtl = read(PP_CTRL);
+    let lines: Vec<&str> = rtl.lines().collect();
+    let table = table();
+    for name in table.keys() {
+        let state = isa::state_code(name).unwrap_or_else(|| panic!("{name}: not an ISA state"));
+        let at = state_line(state).unwrap_or_else(|| panic!("{name}: no Verilog line mapped"));
+        assert_eq!(at.file, PP_CTRL);
+        let text = lines
+            .get(at.line as usize - 1)
+            .unwrap_or_else(|| panic!("{at}: past the end of the file"));
+        let label = format!("`ISA_ST_{name}");
+        let item = text.trim_start().split("//").next().unwrap_or_default();
+        let names_it = item
+            .split(':')
+            .next()
+            .is_some_and(|labels| labels.split(',').any(|l| l.trim() == label));
+        assert!(names_it, "{at} does not name {name}: {text:?}");
+    }
+    assert_eq!(
+        PP_CTRL_STATE_LINES.len(),
+        table.len(),
+        "one mapped line per state of the table"
+    );
+    // A state the ISA does not name has no line.
+    assert!(state_line(u16::MAX).is_none());
+}

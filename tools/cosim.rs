@@ -54,11 +54,11 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, hash {:016x}), window {window} \
+        "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), window {window} \
          ({} pixel{}), recip {}, sqrt {}, {threads} thread{}, {}",
         args.scene.scene,
         scene.render.max_depth,
-        scene.content_hash(),
+        scene.render_hash(),
         window.pixels(),
         plural(window.pixels()),
         scene.render.recip,

@@ -91,11 +91,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let (w, h) = (scene.camera.width, scene.camera.height);
     writeln!(
         out,
-        "rtcosim render: {} model, scene {} ({w}x{h}, stack depth {}, hash {:016x}), {threads} thread{}",
+        "rtcosim render: {} model, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), {threads} thread{}",
         args.model.name(),
         args.scene.scene,
         scene.render.max_depth,
-        scene.content_hash(),
+        scene.render_hash(),
         plural(threads as u64)
     )?;
     let bar = progress_bar(scene.pixel_count(), "rendering", "{percent:>3}% ({eta})")?;

@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use golden::micro::isa;
-use golden::trace::{format_event, TraceReader};
+use golden::trace::{format_record, TraceReader, TraceRecord};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -18,24 +18,30 @@ pub fn run(args: TraceDumpArgs) -> Result<()> {
     let reader =
         TraceReader::new(std::io::BufReader::new(file)).with_context(|| format!("{path}"))?;
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    let h = reader.header();
     writeln!(
         out,
-        "# {path}: rtcosim trace version {}, scene hash {:016x}",
+        "# {path}: rtcosim trace version {}, written by the {}, scene hash {:016x}, configuration hash {:016x}",
         golden::trace::VERSION,
-        reader.header().scene_hash
+        h.side,
+        h.scene_hash,
+        h.config_hash
     )?;
-    writeln!(out, "# {}", reader.header().config)?;
-    let mut events = 0u64;
-    for event in reader {
-        let event = event.with_context(|| format!("{path}"))?;
+    writeln!(out, "# {}", h.config)?;
+    let (mut events, mut pixels) = (0u64, 0u64);
+    for record in reader {
+        let record = record.with_context(|| format!("{path}"))?;
         writeln!(
             out,
             "{}",
-            format_event(&event, &isa::state_name, &isa::register_name)
+            format_record(&record, &isa::state_name, &isa::register_name)
         )?;
-        events += 1;
+        match record {
+            TraceRecord::Event(_) => events += 1,
+            TraceRecord::PixelEnd { .. } => pixels += 1,
+        }
     }
-    writeln!(out, "# {events} events")?;
+    writeln!(out, "# {events} events, {pixels} pixels")?;
     out.flush()?;
     Ok(())
 }

@@ -198,18 +198,9 @@ impl StateSet {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DivergenceKind {
     /// Event `seq` differs in state, destination, lanes or a written value.
-    Event {
-        a: TraceEvent,
-        b: TraceEvent,
-        /// The golden source line that issued B's event, when B is a live
-        /// golden model.
-        at: Option<SourceLine>,
-    },
+    Event { a: TraceEvent, b: TraceEvent },
     /// A wrote fewer events: B's event at this seq has no counterpart.
-    MissingEvent {
-        b: TraceEvent,
-        at: Option<SourceLine>,
-    },
+    MissingEvent { b: TraceEvent },
     /// A wrote more events: this one has no counterpart in B.
     ExtraEvent { a: TraceEvent },
     /// Every event agreed, but not the colour.
@@ -218,23 +209,71 @@ pub enum DivergenceKind {
     Cycles,
 }
 
+/// What kind of divergence a pixel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DivergenceClass {
+    /// Numeric drift: both sides went through the same states, writing the
+    /// same registers and lanes, and some values (or the colour) are apart.
+    NumericDrift,
+    /// Control-flow divergence: the state sequences split (a hit against a
+    /// miss, another stack depth, one side ending early).
+    ControlFlow(Split),
+    /// Events and colour agree; only the cycle count differs.
+    Timing,
+}
+
+/// Where and why two state sequences split.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Split {
+    /// The first sequence number where the sides' events differ in state,
+    /// destination or lanes, or where one side has no event.
+    pub seq: u32,
+    /// The two sides' events there (`None`: that side had ended).
+    pub a: Option<TraceEvent>,
+    pub b: Option<TraceEvent>,
+    /// The last event before the split, the same state on both sides (B's
+    /// event): the branch was taken differently after it. `None` when the
+    /// sequences split at the first event.
+    pub after: Option<TraceEvent>,
+    /// The first pair before the split with the same state, destination
+    /// and lanes but values apart: the numeric difference that sent the
+    /// branch another way. `None` when every value agreed up to the split.
+    pub cause: Option<(TraceEvent, TraceEvent)>,
+}
+
 /// The first divergence of a pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Divergence {
     pub x: u32,
     pub y: u32,
     pub kind: DivergenceKind,
+    pub class: DivergenceClass,
     pub a: PixelOutcome,
     pub b: PixelOutcome,
+    /// The golden model's source line that issued A's diverging event,
+    /// when known (a golden side, or a golden re-run that reached it).
+    pub a_at: Option<SourceLine>,
+    /// The same for B's.
+    pub b_at: Option<SourceLine>,
 }
 
 impl Divergence {
     /// The sequence number of the diverging event, if an event diverged.
     pub fn seq(&self) -> Option<u32> {
         match self.kind {
-            DivergenceKind::Event { b, .. } | DivergenceKind::MissingEvent { b, .. } => Some(b.seq),
+            DivergenceKind::Event { b, .. } | DivergenceKind::MissingEvent { b } => Some(b.seq),
             DivergenceKind::ExtraEvent { a } => Some(a.seq),
             DivergenceKind::Rgb | DivergenceKind::Cycles => None,
+        }
+    }
+
+    /// The two sides' diverging events (`None` where a side had none).
+    pub fn events(&self) -> (Option<TraceEvent>, Option<TraceEvent>) {
+        match self.kind {
+            DivergenceKind::Event { a, b } => (Some(a), Some(b)),
+            DivergenceKind::MissingEvent { b } => (None, Some(b)),
+            DivergenceKind::ExtraEvent { a } => (Some(a), None),
+            DivergenceKind::Rgb | DivergenceKind::Cycles => (None, None),
         }
     }
 
@@ -242,9 +281,7 @@ impl Divergence {
     /// event divergence).
     pub fn max_distance(&self) -> Option<UlpDistance> {
         match &self.kind {
-            DivergenceKind::Event { a, b, .. } => {
-                (0..3).filter_map(|i| lane_distance(a, b, i)).max()
-            }
+            DivergenceKind::Event { a, b } => (0..3).filter_map(|i| lane_distance(a, b, i)).max(),
             _ => None,
         }
     }
@@ -253,6 +290,12 @@ impl Divergence {
     fn precedes(&self, other: &Divergence) -> bool {
         (self.y, self.x) < (other.y, other.x)
     }
+}
+
+/// Whether two events were made by the same instruction: the same state,
+/// destination and lanes (values aside).
+fn same_step(a: &TraceEvent, b: &TraceEvent) -> bool {
+    a.state == b.state && a.dst == b.dst && a.lanes == b.lanes
 }
 
 /// One pixel's comparison, fed event by event in sequence order: a pair
@@ -267,7 +310,12 @@ pub struct PixelCompare {
     mismatches: u64,
     ulps: UlpHistogram,
     states: StateSet,
-    first: Option<DivergenceKind>,
+    first: Option<(DivergenceKind, Option<SourceLine>)>,
+    /// The last pair that was the same step, while no split is seen.
+    last_common: Option<TraceEvent>,
+    /// The first same-step pair with values apart.
+    first_value: Option<(TraceEvent, TraceEvent)>,
+    split: Option<Split>,
 }
 
 impl PixelCompare {
@@ -281,10 +329,14 @@ impl PixelCompare {
             ulps: UlpHistogram::default(),
             states: StateSet::default(),
             first: None,
+            last_common: None,
+            first_value: None,
+            split: None,
         }
     }
 
-    /// Both sides made an event at this sequence number.
+    /// Both sides made an event at this sequence number; `at` is the
+    /// golden source line of B's, when B is a live golden model.
     pub fn pair(&mut self, a: &TraceEvent, b: &TraceEvent, at: Option<SourceLine>) {
         self.compared += 1;
         self.states.insert(b.state);
@@ -293,23 +345,46 @@ impl PixelCompare {
                 self.ulps.add(d);
             }
         }
-        if events_differ(a, b, self.tolerance) {
+        let differ = events_differ(a, b, self.tolerance);
+        if differ {
             self.mismatches += 1;
             self.first
-                .get_or_insert(DivergenceKind::Event { a: *a, b: *b, at });
+                .get_or_insert((DivergenceKind::Event { a: *a, b: *b }, at));
         }
+        if self.split.is_none() {
+            if same_step(a, b) {
+                self.last_common = Some(*b);
+                if differ && self.first_value.is_none() {
+                    self.first_value = Some((*a, *b));
+                }
+            } else {
+                self.split_at(b.seq, Some(*a), Some(*b));
+            }
+        }
+    }
+
+    fn split_at(&mut self, seq: u32, a: Option<TraceEvent>, b: Option<TraceEvent>) {
+        self.split.get_or_insert(Split {
+            seq,
+            a,
+            b,
+            after: self.last_common,
+            cause: self.first_value,
+        });
     }
 
     /// B made an event where A had ended.
     pub fn only_b(&mut self, b: &TraceEvent, at: Option<SourceLine>) {
         self.first
-            .get_or_insert(DivergenceKind::MissingEvent { b: *b, at });
+            .get_or_insert((DivergenceKind::MissingEvent { b: *b }, at));
+        self.split_at(b.seq, None, Some(*b));
     }
 
     /// A made an event where B had ended.
     pub fn only_a(&mut self, a: &TraceEvent) {
         self.first
-            .get_or_insert(DivergenceKind::ExtraEvent { a: *a });
+            .get_or_insert((DivergenceKind::ExtraEvent { a: *a }, None));
+        self.split_at(a.seq, Some(*a), None);
     }
 
     /// Compares `a` (the pairs and single events fed so far) with the
@@ -319,8 +394,13 @@ impl PixelCompare {
         let cycles_differ = a.cycles != b.cycles;
         let first = self
             .first
-            .or(rgb_differs.then_some(DivergenceKind::Rgb))
-            .or(cycles_differ.then_some(DivergenceKind::Cycles));
+            .or(rgb_differs.then_some((DivergenceKind::Rgb, None)))
+            .or(cycles_differ.then_some((DivergenceKind::Cycles, None)));
+        let class = match (self.split, first) {
+            (Some(split), _) => DivergenceClass::ControlFlow(split),
+            (None, Some((DivergenceKind::Cycles, _))) => DivergenceClass::Timing,
+            _ => DivergenceClass::NumericDrift,
+        };
         PixelVerdict {
             x: self.x,
             y: self.y,
@@ -332,12 +412,15 @@ impl PixelCompare {
             states: self.states,
             rgb_differs,
             cycles_differ,
-            first: first.map(|kind| Divergence {
+            first: first.map(|(kind, at)| Divergence {
                 x: self.x,
                 y: self.y,
                 kind,
+                class,
                 a,
                 b,
+                a_at: None,
+                b_at: at,
             }),
         }
     }
@@ -433,6 +516,10 @@ counters! {
         rgb_mismatches,
         /// Pixels with any divergence (events, counts, colour, cycles).
         divergent_pixels,
+        /// Divergent pixels whose state sequences split.
+        control_flow_pixels,
+        /// Divergent pixels with the same state sequence, values apart.
+        numeric_drift_pixels,
     }
 }
 
@@ -451,6 +538,14 @@ impl Counts {
             cycle_mismatches: u64::from(v.cycles_differ),
             rgb_mismatches: u64::from(v.rgb_differs),
             divergent_pixels: u64::from(v.diverged()),
+            control_flow_pixels: u64::from(matches!(
+                v.first.map(|d| d.class),
+                Some(DivergenceClass::ControlFlow(_))
+            )),
+            numeric_drift_pixels: u64::from(matches!(
+                v.first.map(|d| d.class),
+                Some(DivergenceClass::NumericDrift)
+            )),
         }
     }
 }

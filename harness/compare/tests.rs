@@ -74,7 +74,7 @@ fn a_value_apart_is_an_event_divergence_at_its_seq_with_its_distance() {
     let d = v.first.expect("diverges");
     assert_eq!(d.seq(), Some(4));
     assert_eq!(d.max_distance(), Some(UlpDistance::Ulps(3)));
-    assert!(matches!(d.kind, DivergenceKind::Event { a, b, at: None } if a.seq == 4 && b.seq == 4));
+    assert!(matches!(d.kind, DivergenceKind::Event { a, b } if a.seq == 4 && b.seq == 4));
     assert_eq!((v.compared, v.mismatches), (7, 2));
     assert_eq!(
         v.ulps.buckets[UlpHistogram::bucket(UlpDistance::Ulps(3))],
@@ -196,14 +196,14 @@ fn a_divergence_reads_with_the_sides_names() {
         .text(&Labels::new("A.rtt", "B.rtt"))
         .to_string();
     assert!(
-        text.starts_with("pixel (3, 4) event #1: A.rtt state "),
+        text.starts_with("pixel (3, 4) event #1 (numeric drift):\n  A.rtt state PRI_HALF (11) [rtl/pp/pp_ctrl.v:"),
         "{text}"
     );
     assert!(text.contains("lane x: A.rtt 0x3fc00401"), "{text}");
     assert!(text.contains(": 1024 ulp"), "{text}");
     assert!(
-        !text.contains("source:"),
-        "no source line without a live model: {text}"
+        !text.contains("issued by"),
+        "no golden line without a live model: {text}"
     );
 }
 
@@ -237,4 +237,85 @@ fn nan_lanes_agree_only_bit_for_bit() {
     };
     assert!(events_differ(&zero, &neg_zero, Tolerance::default()));
     assert!(!events_differ(&zero, &neg_zero, Tolerance { max_ulps: 1 }));
+}
+
+#[test]
+fn values_apart_on_the_same_path_are_numeric_drift() {
+    let b = stream(3, 4, 7);
+    let mut a = b.clone();
+    a[2].values[1] ^= 1;
+    let v = verdict(&a, &b, outcome(7), outcome(7));
+    assert_eq!(
+        v.first.map(|d| d.class),
+        Some(DivergenceClass::NumericDrift)
+    );
+    // Only the colour apart: drift too.
+    let mut other = outcome(7);
+    other.rgb[0] ^= 1;
+    let v = verdict(&b, &b, other, outcome(7));
+    assert_eq!(
+        v.first.map(|d| d.class),
+        Some(DivergenceClass::NumericDrift)
+    );
+    // Only the cycles: timing.
+    let mut slow = outcome(7);
+    slow.cycles += 1;
+    let v = verdict(&b, &b, slow, outcome(7));
+    assert_eq!(v.first.map(|d| d.class), Some(DivergenceClass::Timing));
+    let mut r = CompareReport::new(Labels::rtl_golden());
+    r.add(&verdict(&a, &b, outcome(7), outcome(7)));
+    assert_eq!(
+        (r.counts.numeric_drift_pixels, r.counts.control_flow_pixels),
+        (1, 0)
+    );
+}
+
+#[test]
+fn a_split_path_is_control_flow_with_its_branch_and_cause() {
+    let b = stream(3, 4, 8);
+    let mut a = b.clone();
+    a[2].values[0] += 5; // the cause: 5 ULP apart
+    a[6].state += 40; // the paths split at #6
+    a[7].state += 40;
+    let v = verdict(&a, &b, outcome(8), outcome(8));
+    let d = v.first.expect("diverges");
+    assert_eq!(d.seq(), Some(2), "the first divergence is the value");
+    let DivergenceClass::ControlFlow(split) = d.class else {
+        panic!("not control flow: {:?}", d.class);
+    };
+    assert_eq!(split.seq, 6);
+    assert_eq!(split.after, Some(b[5]), "the branch after #5");
+    assert_eq!(split.cause, Some((a[2], b[2])));
+    assert_eq!((split.a, split.b), (Some(a[6]), Some(b[6])));
+    let text = d.text(&Labels::rtl_golden()).to_string();
+    assert!(text.contains("control-flow divergence"), "{text}");
+    assert!(text.contains("split at event #6"), "{text}");
+    assert!(text.contains("after event #5"), "{text}");
+    // A split with no value apart before it says so.
+    let mut a = b.clone();
+    a[3].dst += 1;
+    let v = verdict(&a, &b, outcome(8), outcome(8));
+    let d = v.first.expect("diverges");
+    let DivergenceClass::ControlFlow(split) = d.class else {
+        panic!("not control flow: {:?}", d.class);
+    };
+    assert_eq!((split.seq, split.cause), (3, None));
+    assert!(d
+        .text(&Labels::rtl_golden())
+        .to_string()
+        .contains("without a traced cause"));
+    // One side ending early splits there.
+    let v = verdict(&b[..5], &b, outcome(5), outcome(8));
+    let d = v.first.expect("diverges");
+    let DivergenceClass::ControlFlow(split) = d.class else {
+        panic!("not control flow: {:?}", d.class);
+    };
+    assert_eq!((split.seq, split.a, split.b), (5, None, Some(b[5])));
+    assert_eq!(split.after, Some(b[4]));
+    let mut r = CompareReport::new(Labels::rtl_golden());
+    r.add(&v);
+    assert_eq!(
+        (r.counts.numeric_drift_pixels, r.counts.control_flow_pixels),
+        (0, 1)
+    );
 }

@@ -16,6 +16,7 @@
 //! address at stack level 0, and lane masks an instruction does not have.
 
 use super::alu::Alu;
+use super::fault::Fault;
 use super::isa::{self, op, Lanes, Reg, State, REGISTER_COUNT};
 use super::stats::{OpClass, OpStats};
 use crate::fp::Method;
@@ -116,6 +117,10 @@ pub struct Core<T> {
     seq: u32,
     /// Instructions and cycles so far.
     pub stats: OpStats,
+    /// The injected fault: the state whose writes are hit (`u16::MAX`, no
+    /// state, when none) and the XOR on lane x.
+    fault_state: u16,
+    fault_xor: u32,
     trace: T,
 }
 
@@ -136,7 +141,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         sqrt: Method,
         trace: T,
     ) -> Core<T> {
-        Core::loaded(&LoadedImage::new(image), px, py, recip, sqrt, trace)
+        Core::loaded(&LoadedImage::new(image), px, py, recip, sqrt, None, trace)
     }
 
     /// [`Core::new`] from an image already in the core's layout.
@@ -147,8 +152,10 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         py: u32,
         recip: Method,
         sqrt: Method,
+        fault: Option<Fault>,
         trace: T,
     ) -> Core<T> {
+        let (fault_state, fault_xor) = fault.map_or((u16::MAX, 0), |f| (f.state, f.xor));
         Core {
             regs: image.clone(),
             alu: Alu::new(recip, sqrt),
@@ -157,6 +164,8 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             py,
             seq: 0,
             stats: OpStats::default(),
+            fault_state,
+            fault_xor,
             trace,
         }
     }
@@ -223,9 +232,14 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             bad_mask(mask, at);
         }
         let mut values = [0u32; 3];
+        let xor = if state.0 == self.fault_state {
+            self.fault_xor
+        } else {
+            0
+        };
         for (i, value) in values.iter_mut().enumerate() {
             if mask.has(i) {
-                *value = y[i].to_bits();
+                *value = y[i].to_bits() ^ if i == 0 { xor } else { 0 };
                 self.regs.lanes[i][a.0 as usize] = *value;
             }
         }

@@ -48,6 +48,7 @@
 
 pub mod alu;
 pub mod core;
+pub mod fault;
 pub mod isa;
 #[cfg(test)]
 mod isa_parse;
@@ -61,6 +62,7 @@ use self::core::{Core, LoadedImage};
 use crate::frame::Frame;
 use crate::scene::Scene;
 use crate::trace::TraceEvent;
+pub use fault::Fault;
 use loader::Config;
 use rayon::prelude::*;
 use std::panic::Location;
@@ -88,6 +90,7 @@ pub struct Processor {
     config: Config,
     width: u32,
     height: u32,
+    fault: Option<Fault>,
 }
 
 impl Processor {
@@ -97,7 +100,15 @@ impl Processor {
             config: Config::new(scene),
             width: scene.camera.width,
             height: scene.camera.height,
+            fault: None,
         }
+    }
+
+    /// The same processor with `fault` injected into every pixel (a
+    /// checker's self-test; see [`Fault`]); `None` takes it out.
+    pub fn with_fault(mut self, fault: Option<Fault>) -> Processor {
+        self.fault = fault.filter(|f| f.xor != 0);
+        self
     }
 
     /// The controller's configuration.
@@ -126,6 +137,7 @@ impl Processor {
             py,
             self.config.recip,
             self.config.sqrt,
+            self.fault,
             trace,
         );
         let mut program = program::Program::new(core, &self.config);

@@ -11,10 +11,10 @@
 use super::error::SceneError;
 use super::types::{Axis, Camera, Light, Material, Plane, RenderSettings, Sphere, Vec3f};
 use crate::fp::Method;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawScene {
     pub camera: RawCamera,
@@ -27,7 +27,7 @@ pub(super) struct RawScene {
     pub render: RawRender,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawCamera {
     pub eye: [f64; 3],
@@ -38,14 +38,14 @@ pub(super) struct RawCamera {
     pub height: i64,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLight {
     pub position: [f64; 3],
     pub color: [f64; 3],
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawSphere {
     pub center: [f64; 3],
@@ -56,7 +56,7 @@ pub(super) struct RawSphere {
     pub reflection: f64,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawPlane {
     pub axis: RawAxis,
@@ -69,9 +69,15 @@ pub(super) struct RawPlane {
 }
 
 /// `axis = "x" | "y" | "z"`.
-#[derive(Deserialize, Clone, Copy)]
-#[serde(try_from = "String")]
+#[derive(Deserialize, Serialize, Clone, Copy)]
+#[serde(try_from = "String", into = "String")]
 pub(super) struct RawAxis(pub Axis);
+
+impl From<RawAxis> for String {
+    fn from(a: RawAxis) -> String {
+        a.0.name().to_string()
+    }
+}
 
 impl TryFrom<String> for RawAxis {
     type Error = String;
@@ -88,9 +94,16 @@ impl TryFrom<String> for RawAxis {
 
 /// `facing = "+" | "-"`: +1.0 or -1.0. (From code, any f32: the
 /// validation checks it is one of the two.)
-#[derive(Deserialize, Clone, Copy)]
-#[serde(try_from = "String")]
+#[derive(Deserialize, Serialize, Clone, Copy)]
+#[serde(try_from = "String", into = "String")]
 pub(super) struct RawFacing(pub f32);
+
+impl From<RawFacing> for String {
+    /// A valid scene's facing is +1 or -1 (validated before it is written).
+    fn from(f: RawFacing) -> String {
+        if f.0 < 0.0 { "-" } else { "+" }.to_string()
+    }
+}
 
 impl TryFrom<String> for RawFacing {
     type Error = String;
@@ -105,7 +118,7 @@ impl TryFrom<String> for RawFacing {
 }
 
 /// `recip` and `sqrt`: `"exact" | "fast"`.
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Serialize, Clone, Copy)]
 #[serde(rename_all = "lowercase")]
 pub(super) enum RawMethod {
     Exact,
@@ -130,7 +143,7 @@ impl From<Method> for RawMethod {
     }
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub(super) struct RawRender {
     pub max_depth: i64,
@@ -165,6 +178,14 @@ impl RawScene {
             let field = (field != ".").then_some(field);
             syntax_error(origin, text, field, e.inner())
         })
+    }
+
+    /// The scene file's text. Every number is written as the shortest
+    /// decimal that reads back to the same f64, and the f64s hold the
+    /// scene's f32s exactly, so [`RawScene::parse`] of the text gives the
+    /// same scene, bit for bit.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a scene's numbers, arrays and strings are all TOML")
     }
 
     /// A scene built in code, in the file's shape: every number widened,

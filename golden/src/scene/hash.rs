@@ -1,13 +1,17 @@
-//! The scene's content hash: a stable identity for trace files.
+//! The scene's hashes: stable identities for trace files. One of what is
+//! rendered (the picture's content), one of how it is computed (the
+//! configuration), so that two traces of one picture computed two ways are
+//! recognised as such.
 
 use super::types::{Material, Vec3f};
 use super::Scene;
 
-/// A stable 64-bit FNV-1a hash of every number of the scene (the bits of
-/// the f32s, the integers, the settings) in a fixed order.
-pub(super) fn content_hash(scene: &Scene) -> u64 {
+/// A stable 64-bit FNV-1a hash of what is rendered: the camera (with the
+/// image size), the light, every object and its material (the bits of the
+/// f32s, the integers) in a fixed order.
+pub(super) fn render_hash(scene: &Scene) -> u64 {
     let mut h = Fnv1a::new();
-    h.bytes(b"rtcosim-scene-v1");
+    h.bytes(b"rtcosim-scene-v2");
     let c = &scene.camera;
     h.vec(c.eye);
     h.vec(c.rotation_deg);
@@ -29,6 +33,14 @@ pub(super) fn content_hash(scene: &Scene) -> u64 {
         h.f32(p.offset);
         h.material(&p.material);
     }
+    h.finish()
+}
+
+/// A stable 64-bit FNV-1a hash of how the scene is computed: the stack
+/// depth, the speed-ups, the methods.
+pub(super) fn config_hash(scene: &Scene) -> u64 {
+    let mut h = Fnv1a::new();
+    h.bytes(b"rtcosim-config-v1");
     let r = &scene.render;
     h.u32(r.max_depth);
     h.bytes(&[

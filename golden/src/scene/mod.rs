@@ -64,7 +64,8 @@
 //!   built in code, to a [`Scene`]; every rule is checked there, once.
 //! - `builtin`: the scenes embedded in the binary.
 //! - `derived`: the constants computed once from a valid scene ([`Derived`]).
-//! - `hash`: [`Scene::content_hash`], the identity trace files record.
+//! - `hash`: [`Scene::render_hash`] and [`Scene::config_hash`], the
+//!   identities trace files record.
 //! - `error`: [`SceneError`].
 
 mod builtin;
@@ -173,11 +174,34 @@ impl Scene {
         u64::from(self.camera.width) * u64::from(self.camera.height)
     }
 
-    /// A stable 64-bit FNV-1a hash of every number of the scene (the bits of
-    /// the f32s, the integers, the settings) in a fixed order. Equal scenes
-    /// hash equal on every platform and in every version that keeps the
-    /// encoding tag; trace files record it to detect a foreign scene.
-    pub fn content_hash(&self) -> u64 {
-        hash::content_hash(self)
+    /// A stable 64-bit FNV-1a hash of what is rendered: the camera and the
+    /// image size, the light, the objects and their materials (the bits of
+    /// the f32s, the integers) in a fixed order, and not how it is computed
+    /// (see [`Scene::config_hash`]). Equal pictures hash equal on every
+    /// platform and in every version that keeps the encoding tag; trace
+    /// files record it, and traces of different scenes are not compared.
+    pub fn render_hash(&self) -> u64 {
+        hash::render_hash(self)
+    }
+
+    /// A stable 64-bit FNV-1a hash of how the scene is computed: the stack
+    /// depth, the speed-ups and the methods. Traces of one scene under two
+    /// configurations are compared (their differences printed first).
+    pub fn config_hash(&self) -> u64 {
+        hash::config_hash(self)
+    }
+
+    /// The scene as a scene file's text: [`Scene::from_toml`] of it gives
+    /// this scene back, bit for bit. Trace files carry it, so that a trace
+    /// says exactly what it traced.
+    pub fn to_toml(&self) -> String {
+        RawScene::from_parts(
+            &self.camera,
+            &self.light,
+            &self.spheres,
+            &self.planes,
+            &self.render,
+        )
+        .to_toml()
     }
 }
