@@ -118,7 +118,11 @@ impl fmt::Display for CosimReport {
             )?;
         }
         writeln!(f, ": {} pixels", self.compare.counts.pixels)?;
-        write!(f, "{}", self.compare)
+        write!(f, "{}", self.compare)?;
+        if let Some(d) = &self.compare.first_divergence {
+            write!(f, "\nfirst divergence: {}", d.text(&self.compare.labels))?;
+        }
+        Ok(())
     }
 }
 

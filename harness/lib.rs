@@ -14,7 +14,10 @@
 //! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
-//! - [`trace_files`]: trace-file headers and writers for a window.
+//! - [`trace_files`]: trace-file headers and writers for a window, of the
+//!   golden model and of the RTL.
+//! - [`trace_diff`]: two trace files through the comparison engine.
+//! - [`rtl_source`]: the Verilog line that decodes each controller state.
 
 mod bridge;
 pub mod compare;
@@ -26,6 +29,7 @@ pub mod operands;
 pub mod pixel_proc;
 pub mod rtl_source;
 pub mod scenes;
+pub mod trace_diff;
 pub mod trace_files;
 
 /// The Verilator that built the models (`verilator --version`).

@@ -4,7 +4,6 @@
 //! same format, pixel by pixel in row order (see [`golden::trace`]).
 
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
-use golden::micro::isa::state_label;
 use golden::micro::Processor;
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
@@ -62,7 +61,7 @@ pub fn header(
         config: format!(
             "writer=rtcosim-{} side={} {writer} scene={} size={}x{} depth={} recip={} sqrt={} speedups={} window={window}",
             env!("CARGO_PKG_VERSION"),
-            side.to_string().to_lowercase(),
+            side.key(),
             one_word(scene_name),
             scene.camera.width,
             scene.camera.height,
@@ -146,19 +145,30 @@ fn write_error(path: &Path, source: TraceError) -> TraceFileError {
     }
 }
 
+/// The `key=value` words of a writer with an injected fault.
+fn with_fault(writer: String, fault: Option<Fault>) -> String {
+    match fault {
+        Some(f) => format!("{writer} fault={f}"),
+        None => writer,
+    }
+}
+
 /// Writes the micro-op model's trace of the pixels in `window`, row by row,
-/// left to right, to `path`; `progress` is called once per pixel. Returns
-/// the number of events.
+/// left to right, to `path`, with `fault` injected (a self-test of a
+/// checker); `progress` is called once per pixel. Returns the number of
+/// events.
 pub fn write_golden(
     scene: &Scene,
     scene_name: &str,
     window: Window,
+    fault: Option<Fault>,
     path: &Path,
     progress: &dyn Fn(u64),
 ) -> Result<u64, TraceFileError> {
-    let header = header(scene, scene_name, TraceSide::Golden, "model=micro", window);
+    let writer = with_fault("model=micro".to_string(), fault);
+    let header = header(scene, scene_name, TraceSide::Golden, &writer, window);
     let mut file = TraceFile::create(path, &header)?;
-    let proc = Processor::new(scene);
+    let proc = Processor::new(scene).with_fault(fault);
     let mut events = 0;
     for (x, y) in window.iter() {
         let mut failed = None;
@@ -196,13 +206,13 @@ pub fn write_rtl(
     rtl.set_timeout_cycles(timeout_cycles);
     rtl.set_fault(fault);
     rtl.load_scene(scene)?;
-    let mut writer = format!(
-        "model=pixel_processor simulator={}",
-        one_word(crate::VERILATOR_VERSION)
+    let writer = with_fault(
+        format!(
+            "model=pixel_processor simulator={}",
+            one_word(crate::VERILATOR_VERSION)
+        ),
+        fault,
     );
-    if let Some(f) = fault {
-        writer += &format!(" fault={}:{:#x}", state_label(f.state), f.xor);
-    }
     let header = header(scene, scene_name, TraceSide::Rtl, &writer, window);
     let mut file = TraceFile::create(path, &header)?;
     let mut buffer = Vec::new();

@@ -67,7 +67,7 @@ fn a_small_reference_frame_agrees() {
     let compared = number_in(&stdout, "events:", " compared");
     assert!(compared > 0, "{stdout}");
     assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
-    assert_eq!(number_in(&stdout, "divergent pixels:", ""), 0);
+    assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0);
     assert!(stdout.contains("cycles/pixel: mean "), "{stdout}");
     assert!(stdout.contains("pixels/s"), "{stdout}");
     assert!(stdout.contains("PASS"), "{stdout}");
@@ -117,10 +117,14 @@ fn an_injected_fault_fails_the_run_at_its_state_and_first_pixel() {
         .find(|l| l.starts_with("first divergence: "))
         .unwrap_or_else(|| panic!("no first divergence in\n{stdout}"));
     assert!(first.contains("pixel (0, 0)"), "{first}");
-    assert!(first.contains("RTL state PRI_HALF ("), "{first}");
-    assert!(stdout.contains("golden source: "), "{stdout}");
+    assert!(stdout.contains("\n  RTL    state PRI_HALF ("), "{stdout}");
+    assert!(stdout.contains("[rtl/pp/pp_ctrl.v:"), "{stdout}");
+    assert!(
+        stdout.contains(", issued by golden/src/micro/program.rs:"),
+        "{stdout}"
+    );
     // Every pixel writes in PRI_HALF.
-    assert_eq!(number_in(&stdout, "divergent pixels:", ""), 1200);
+    assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 1200);
     assert!(
         stdout.contains("FAIL: 1200 of 1200 pixels diverge"),
         "{stdout}"

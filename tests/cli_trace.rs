@@ -7,29 +7,22 @@ use golden::micro::{isa, Processor};
 use golden::scene::Scene;
 use golden::trace::{format_record, TraceEvent, TraceReader, TraceRecord, TraceSide};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
+
+use common::{arg, run_bin, scratch_dir, text};
 
 fn rtcosim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rtcosim"))
-        .args(args)
-        .output()
-        .expect("running rtcosim")
+    run_bin(env!("CARGO_BIN_EXE_rtcosim"), args)
 }
 
-/// A fresh scratch directory for one test.
 fn scratch(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_trace-{test}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating the scratch directory");
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
+    scratch_dir("cli_trace", test)
 }
 
 fn s(p: &Path) -> &str {
-    p.to_str().expect("UTF-8 path")
+    arg(p)
 }
 
 #[test]
@@ -125,7 +118,7 @@ fn the_trace_file_holds_the_golden_models_events_for_the_window() {
     assert_eq!(lines.len(), records.len() + 3);
     assert!(
         lines[0].starts_with('#')
-            && lines[0].contains("written by the golden")
+            && lines[0].contains("written by the golden model")
             && lines[0].contains(&format!("{:016x}", scene.render_hash()))
     );
     assert_eq!(

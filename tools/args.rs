@@ -108,6 +108,14 @@ pub fn parse_window(s: &str) -> Result<Window, String> {
         .map_err(|e: golden::window::WindowError| e.to_string())
 }
 
+/// `X,Y`: one pixel.
+pub fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected a pixel X,Y (column, row from 0), e.g. 17,11; got {s:?}");
+    let (x, y) = s.split_once(',').ok_or_else(bad)?;
+    let n = |v: &str| v.trim().parse::<u32>().map_err(|_| bad());
+    Ok((n(x)?, n(y)?))
+}
+
 /// `STATE:XOR` ([`Fault`]'s own syntax).
 pub fn parse_fault(s: &str) -> Result<Fault, String> {
     s.parse()

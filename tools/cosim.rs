@@ -1,13 +1,16 @@
 //! `rtcosim cosim`: the verilated pixel processor against golden::micro.
 
-use crate::args::{check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs};
-use crate::ui::{plural, progress_bar};
+use crate::args::{
+    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs,
+};
+use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::Result;
 use golden::micro::isa::state_label;
 use golden::window::Window;
 use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use std::io::Write;
+use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
@@ -41,6 +44,16 @@ pub struct CosimArgs {
     /// the window leaves the run passing, with a warning.
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
     pub fault: Option<Fault>,
+    /// Also write the RTL's trace (every register-file write from its trace
+    /// port, and each pixel's colour and cycles) of the pixels in
+    /// --trace-window to this file, in the format of `render --trace`;
+    /// `trace-diff` compares it with a golden trace. The fault, if any, is
+    /// in it.
+    #[arg(long, value_name = "FILE")]
+    pub trace: Option<PathBuf>,
+    /// The pixels to trace: X0,Y0,X1,Y1 or X,Y (default: --window).
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window, requires = "trace")]
+    pub trace_window: Option<Window>,
 }
 
 /// Returns whether the RTL agreed with golden everywhere.
@@ -48,6 +61,11 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let scene = args.scene.load()?;
     let window = args.window.unwrap_or(Window::full(&scene));
     check_window("--window", window, &scene)?;
+    let trace_window = args.trace_window.unwrap_or(window);
+    if let Some(path) = &args.trace {
+        check_window("--trace-window", trace_window, &scene)?;
+        check_parent_dir("--trace", path)?;
+    }
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -105,6 +123,19 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
     })?;
     print_report(&mut out, &report, seconds, threads)?;
+    if let Some(path) = &args.trace {
+        write_trace(&mut out, path, trace_window, |progress| {
+            rtcosim::trace_files::write_rtl(
+                &scene,
+                &args.scene.scene,
+                trace_window,
+                args.fault,
+                args.timeout_cycles,
+                path,
+                progress,
+            )
+        })?;
+    }
     Ok(report.passed())
 }
 

@@ -1,11 +1,14 @@
 //! `rtcosim render`: a scene to a PNG with a golden model, and the micro-op
 //! model's trace of a window.
 
-use crate::args::{check_parent_dir, check_window, parse_window, SceneArgs, ThreadsArgs};
-use crate::ui::{plural, progress_bar};
-use anyhow::{bail, Context, Result};
+use crate::args::{
+    check_parent_dir, check_window, parse_fault, parse_window, SceneArgs, ThreadsArgs,
+};
+use crate::ui::{plural, progress_bar, write_trace};
+use anyhow::{bail, Result};
 use clap::ValueEnum;
 use golden::frame::Frame;
+use golden::micro::Fault;
 use golden::micro::{FrameStats, OpClass};
 use golden::scene::Scene;
 use golden::window::Window;
@@ -34,6 +37,12 @@ pub struct RenderArgs {
     /// row 0 at the top), or X,Y for one pixel.
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window, requires = "trace")]
     pub trace_window: Option<Window>,
+    /// Self-test of a checker: inject a bit flip into the micro-op model's
+    /// writes in state STATE for the trace (as `cosim --fault` does into
+    /// the RTL's), so that a trace diff against a clean trace must find it.
+    /// Only with --trace.
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault, requires = "trace")]
+    pub fault: Option<Fault>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -120,24 +129,16 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     writeln!(out, "wrote {}", args.out.display())?;
     if let Some((path, window)) = trace {
-        let bar = progress_bar(window.pixels(), "tracing  ", "{percent:>3}% ({eta})")?;
-        let events =
-            rtcosim::trace_files::write_golden(&scene, &args.scene.scene, window, path, &|n| {
-                bar.inc(n)
-            })
-            .context("--trace")?;
-        bar.finish_and_clear();
-        writeln!(
-            out,
-            "wrote {}: {events} trace events of {} pixel{} (columns {}..={}, rows {}..={})",
-            path.display(),
-            window.pixels(),
-            plural(window.pixels()),
-            window.x,
-            window.columns().end - 1,
-            window.y,
-            window.rows().end - 1
-        )?;
+        write_trace(&mut out, path, window, |progress| {
+            rtcosim::trace_files::write_golden(
+                &scene,
+                &args.scene.scene,
+                window,
+                args.fault,
+                path,
+                progress,
+            )
+        })?;
     }
     Ok(())
 }

@@ -6,9 +6,11 @@
 
 mod args;
 mod cosim;
+mod exit;
 mod fp_check;
 mod fuzz;
 mod render;
+mod trace_diff;
 mod trace_dump;
 mod ui;
 
@@ -41,35 +43,23 @@ enum Command {
     /// Render a scene to a PNG with a golden model (and, with --trace, write
     /// the micro-op model's trace of a window of pixels).
     Render(render::RenderArgs),
-    /// Print a trace file (rtcosim render --trace) as text: one line per
-    /// register-file write, with state and register names.
+    /// Print a trace file (rtcosim render --trace, rtcosim cosim --trace) as
+    /// text: one line per register-file write, with state and register
+    /// names, and one per pixel's end.
     TraceDump(trace_dump::TraceDumpArgs),
+    /// Compare two trace files and name the first divergent state in the
+    /// Verilog and the Rust (the same as the `trace-diff` binary).
+    TraceDiff(trace_diff::TraceDiffArgs),
 }
 
 fn main() -> ExitCode {
-    let outcome = match Cli::parse().command {
+    exit::status(match Cli::parse().command {
         Command::Cosim(args) => cosim::run(args),
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),
         Command::Render(args) => render::run(args).map(|()| true),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),
-    };
-    match outcome {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(1),
-        // The reader went away (`rtcosim ... | head`): nothing left to say.
-        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
-    }
-}
-
-fn is_broken_pipe(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| {
-        c.downcast_ref::<std::io::Error>()
-            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+        Command::TraceDiff(args) => trace_diff::run(args),
     })
 }
 

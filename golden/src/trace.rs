@@ -75,6 +75,14 @@ impl TraceSide {
         }
     }
 
+    /// The side as one word, for `key=value` text: `rtl` or `golden`.
+    pub fn key(self) -> &'static str {
+        match self {
+            TraceSide::Rtl => "rtl",
+            TraceSide::Golden => "golden",
+        }
+    }
+
     fn from_code(code: u8) -> Option<TraceSide> {
         match code {
             1 => Some(TraceSide::Rtl),
@@ -88,7 +96,7 @@ impl std::fmt::Display for TraceSide {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             TraceSide::Rtl => "RTL",
-            TraceSide::Golden => "golden",
+            TraceSide::Golden => "golden model",
         })
     }
 }

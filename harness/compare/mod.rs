@@ -18,12 +18,16 @@
 //! [`golden::fp`]); with `max_ulps` > 0, numbers that many ULPs apart agree,
 //! NaNs still only bit for bit.
 
+mod json;
 mod text;
 
 use golden::fp::{ulp_distance, UlpDistance};
 use golden::pixel::PixelOutcome;
 use golden::trace::TraceEvent;
 use std::panic::Location;
+
+pub use json::event_json;
+pub use text::state_with_line;
 
 /// The source line of the golden model that issued an event.
 pub type SourceLine = &'static Location<'static>;
@@ -485,6 +489,13 @@ macro_rules! counters {
         impl std::ops::AddAssign for $name {
             fn add_assign(&mut self, other: $name) {
                 $(self.$field += other.$field;)*
+            }
+        }
+
+        impl $name {
+            /// Every counter with its name, in declaration order.
+            pub fn named(&self) -> Vec<(&'static str, u64)> {
+                vec![$((stringify!($field), self.$field),)*]
             }
         }
     };

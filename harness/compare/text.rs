@@ -204,7 +204,8 @@ impl fmt::Display for DivergenceText<'_> {
 }
 
 impl fmt::Display for CompareReport {
-    /// The counts, one line each, and the first divergence.
+    /// The counts, one line each (the first divergence is
+    /// [`Divergence::text`]).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let Labels { a: la, b: lb } = &self.labels;
         let c = &self.counts;
@@ -224,9 +225,6 @@ impl fmt::Display for CompareReport {
             "  divergent pixels: {} ({} control-flow, {} numeric drift)",
             c.divergent_pixels, c.control_flow_pixels, c.numeric_drift_pixels
         )?;
-        if let Some(d) = &self.first_divergence {
-            write!(f, "\nfirst divergence: {}", d.text(&self.labels))?;
-        }
         Ok(())
     }
 }
@@ -243,7 +241,7 @@ impl fmt::Display for UlpHistogram {
             first = false;
             write!(
                 f,
-                "  {:>15} ulp {n:>12} {:>7.3}%",
+                "  {:>23} ulp {n:>12} {:>7.3}%",
                 UlpHistogram::bucket_label(k),
                 100.0 * n as f64 / total
             )?;

@@ -54,3 +54,30 @@ pub fn run_silent(cmd: &mut Command, what: &str) {
         "{what}:\n{stderr}"
     );
 }
+
+/// Runs a binary of this package (`CARGO_BIN_EXE_<name>`, passed by the
+/// caller because only integration tests see it) with `args`.
+pub fn run_bin(bin: &str, args: &[&str]) -> std::process::Output {
+    Command::new(bin)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("running {bin}: {e}"))
+}
+
+/// A fresh scratch directory `<group>-<test>` under the target directory.
+pub fn scratch_dir(group: &str, test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{group}-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creating the scratch directory");
+    dir
+}
+
+/// Output bytes as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A path as a command-line argument.
+pub fn arg(p: &Path) -> &str {
+    p.to_str().expect("UTF-8 path")
+}

@@ -67,3 +67,31 @@ impl FromStr for Fault {
         Ok(Fault { state, xor })
     }
 }
+
+impl std::fmt::Display for Fault {
+    /// `STATE:XOR` as [`Fault::from_str`] reads it: `PRI_HALF:0x400`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match isa::state_name(self.state) {
+            Some(name) => write!(f, "{name}:{:#x}", self.xor),
+            None => write!(f, "{}:{:#x}", self.state, self.xor),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fault_reads_back_from_its_text() {
+        for text in ["PRI_HALF:0x400", "isa_st_norm_roots:2048", "11:0x80000000"] {
+            let fault: Fault = text.parse().expect("parses");
+            assert_eq!(fault.to_string().parse::<Fault>(), Ok(fault), "{text}");
+        }
+        let f: Fault = "pri_half:1024".parse().expect("parses");
+        assert_eq!(f.to_string(), "PRI_HALF:0x400");
+        assert!("PRI_HALF:0".parse::<Fault>().is_err());
+        assert!("NOT_A_STATE:1".parse::<Fault>().is_err());
+        assert!("PRI_HALF".parse::<Fault>().is_err());
+    }
+}

@@ -111,6 +111,11 @@ impl Processor {
         self
     }
 
+    /// Whether pixel (x, y) is in the scene's image.
+    pub fn contains(&self, x: u32, y: u32) -> bool {
+        x < self.width && y < self.height
+    }
+
     /// The controller's configuration.
     pub fn config(&self) -> &Config {
         &self.config
