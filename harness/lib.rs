@@ -19,6 +19,7 @@
 //! - [`trace_diff`]: two trace files through the comparison engine.
 //! - [`rtl_source`]: the Verilog line that decodes each controller state.
 
+pub mod artefacts;
 mod bridge;
 pub mod compare;
 pub mod cosim;

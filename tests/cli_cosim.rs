@@ -196,3 +196,115 @@ fn a_hung_rtl_is_an_error_naming_the_pixel() {
     );
     assert!(stderr.contains("--timeout-cycles"), "{stderr}");
 }
+
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is a PNG",
+        path.display()
+    );
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().expect("4 bytes"));
+    (be(16), be(20))
+}
+
+#[test]
+fn out_writes_frames_json_markdown_and_junit_that_say_the_same() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_cosim-out");
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = |sub: &str, extra: &[&str]| {
+        let out_dir = dir.join(sub);
+        let mut args = vec![
+            "cosim",
+            "--size",
+            "40x30",
+            "--window",
+            "4,3,23,12",
+            "--threads",
+            "2",
+        ];
+        args.extend(["--out", out_dir.to_str().expect("UTF-8")]);
+        args.extend(extra);
+        (rtcosim(&args), out_dir)
+    };
+    // A clean run.
+    let (out, clean) = run("clean", &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    for f in ["rtl.png", "golden.png"] {
+        assert_eq!(png_size(&clean.join(f)), (20, 10), "{f}: the window's size");
+    }
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(clean.join("report.json")).expect("report.json"),
+    )
+    .expect("valid JSON");
+    let stdout = text(&out.stdout);
+    assert_eq!(json["passed"], true);
+    assert_eq!(json["compare"]["counts"]["pixels"], 200);
+    assert_eq!(
+        json["compare"]["counts"]["events_compared"],
+        number_in(&stdout, "events:", " compared")
+    );
+    let cycles = &json["compare"]["a_cycles_per_pixel"];
+    let histogram_pixels: u64 = cycles["histogram"]
+        .as_array()
+        .expect("histogram")
+        .iter()
+        .map(|b| b["pixels"].as_u64().expect("count"))
+        .sum();
+    assert_eq!(histogram_pixels, 200);
+    assert!(cycles["min"].as_u64() <= cycles["max"].as_u64());
+    let junit = std::fs::read_to_string(clean.join("junit.xml")).expect("junit.xml");
+    assert!(junit.contains(r#"tests="1" failures="0""#), "{junit}");
+    assert!(
+        junit.contains(r#"<testcase name="reference recip=exact sqrt=exact""#),
+        "{junit}"
+    );
+    let md = std::fs::read_to_string(clean.join("report.md")).expect("report.md");
+    assert!(
+        md.starts_with("# rtcosim cosim: reference recip=exact sqrt=exact — PASS"),
+        "{md}"
+    );
+
+    // A failing run: the failure and its first divergence in every file.
+    let (out, failed) = run("fault", &["--fault", "PRI_HALF:0x400", "--recip", "fast"]);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(failed.join("report.json")).expect("report.json"),
+    )
+    .expect("valid JSON");
+    assert_eq!(json["passed"], false);
+    assert_eq!(json["fault"], "PRI_HALF:0x400");
+    let d = &json["compare"]["first_divergence"];
+    assert_eq!(d["pixel"], serde_json::json!([4, 3]));
+    assert_eq!(d["a"]["state"], "PRI_HALF");
+    assert!(
+        d["a"]["verilog"]
+            .as_str()
+            .is_some_and(|v| v.starts_with("rtl/pp/pp_ctrl.v:")),
+        "{d}"
+    );
+    assert!(
+        d["b"]["rust"]
+            .as_str()
+            .is_some_and(|v| v.starts_with("golden/src/micro/program.rs:")),
+        "{d}"
+    );
+    let junit = std::fs::read_to_string(failed.join("junit.xml")).expect("junit.xml");
+    assert!(junit.contains(r#"failures="1""#), "{junit}");
+    assert!(
+        junit.contains(r#"<testcase name="reference recip=fast sqrt=exact""#),
+        "{junit}"
+    );
+    assert!(
+        junit.contains("<failure message=\"200 of 200 pixels diverge"),
+        "{junit}"
+    );
+    assert!(junit.contains("pixel (4, 3) event #"), "{junit}");
+    let md = std::fs::read_to_string(failed.join("report.md")).expect("report.md");
+    assert!(
+        md.contains("— FAIL") && md.contains("## First divergence"),
+        "{md}"
+    );
+}

@@ -535,3 +535,29 @@ fn the_golden_fault_is_the_rtl_fault_bit_for_bit() {
         );
     }
 }
+
+/// `keep_frames` gives both sides' colours of the window, as frames of its
+/// size; both equal the micro-op model's own render of those pixels.
+#[test]
+fn kept_frames_are_the_windows_colours() {
+    let scene = builtin("mirror", 40, 30);
+    let window = Window::new(5, 7, 12, 9);
+    let options = CosimOptions {
+        keep_frames: true,
+        ..CosimOptions::default()
+    };
+    let report = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
+    let frames = report.frames.expect("kept");
+    let (full, _) = golden::micro::render(&scene, &|_| {});
+    for frame in [&frames.rtl, &frames.golden] {
+        assert_eq!((frame.width, frame.height), (12, 9));
+        for (x, y) in window.iter() {
+            assert_eq!(
+                frame.pixel(x - window.x, y - window.y),
+                full.pixel(x, y),
+                "pixel ({x}, {y})"
+            );
+        }
+    }
+    assert!(cosim_all(&scene, window).frames.is_none(), "only when asked");
+}

@@ -4,9 +4,10 @@ use crate::args::{
     check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use golden::micro::isa::state_label;
 use golden::window::Window;
+use rtcosim::artefacts;
 use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use std::io::Write;
@@ -51,6 +52,11 @@ pub struct CosimArgs {
     /// in it.
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
+    /// Write the run's files into DIR (created if missing): both sides'
+    /// frames (rtl.png, golden.png), report.json, report.md and junit.xml
+    /// (one test case for the scene and method pair).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     /// The pixels to trace: X0,Y0,X1,Y1 or X,Y (default: --window).
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window, requires = "trace")]
     pub trace_window: Option<Window>,
@@ -65,6 +71,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     if let Some(path) = &args.trace {
         check_window("--trace-window", trace_window, &scene)?;
         check_parent_dir("--trace", path)?;
+    }
+    // Fail before a long run, not after it.
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
     }
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
@@ -98,7 +108,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let options = CosimOptions {
         fault: args.fault,
         timeout_cycles: args.timeout_cycles,
-        ..CosimOptions::default()
+        keep_frames: args.out.is_some(),
     };
     let bar = progress_bar(
         window.pixels(),
@@ -123,6 +133,20 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
     })?;
     print_report(&mut out, &report, seconds, threads)?;
+    if let Some(dir) = &args.out {
+        let run = artefacts::Run {
+            scene_name: &args.scene.scene,
+            scene: &scene,
+            threads,
+            seconds,
+        };
+        let written = artefacts::write(dir, &run, &report).context("--out")?;
+        let names: Vec<String> = written
+            .iter()
+            .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        writeln!(out, "wrote {}: {}", dir.display(), names.join(", "))?;
+    }
     if let Some(path) = &args.trace {
         write_trace(&mut out, path, trace_window, |progress| {
             rtcosim::trace_files::write_rtl(

@@ -129,10 +129,17 @@ impl CompareReport {
             .into_iter()
             .map(|(k, v)| (k.to_string(), json!(v)))
             .collect();
+        let c = &self.a_cycles;
         json!({
             "sides": [self.labels.a, self.labels.b],
             "passed": self.passed(),
             "counts": counts,
+            "a_cycles_per_pixel": {
+                "mean": c.mean(),
+                "min": c.min(),
+                "max": c.max(),
+                "histogram": c.histogram.iter().map(|(c, n)| json!({"cycles": c, "pixels": n})).collect::<Vec<_>>(),
+            },
             "ulp_histogram": self.ulps.to_json(),
             "states_compared": self.states.len(),
             "first_divergence": self.first_divergence.map(|d| d.to_json(&self.labels)),

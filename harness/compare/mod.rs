@@ -561,11 +561,52 @@ impl Counts {
     }
 }
 
+/// How many cycles pixels took: the fewest, the most, and how many pixels
+/// took each number of cycles. Merges exactly.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct CycleStats {
+    /// Cycles -> pixels that took them.
+    pub histogram: std::collections::BTreeMap<u64, u64>,
+}
+
+impl CycleStats {
+    pub fn add(&mut self, cycles: u64) {
+        *self.histogram.entry(cycles).or_default() += 1;
+    }
+
+    pub fn merge(&mut self, other: &CycleStats) {
+        for (&c, &n) in &other.histogram {
+            *self.histogram.entry(c).or_default() += n;
+        }
+    }
+
+    pub fn min(&self) -> Option<u64> {
+        self.histogram.keys().next().copied()
+    }
+
+    pub fn max(&self) -> Option<u64> {
+        self.histogram.keys().next_back().copied()
+    }
+
+    /// Pixels counted.
+    pub fn pixels(&self) -> u64 {
+        self.histogram.values().sum()
+    }
+
+    /// Mean cycles per pixel (0 with no pixels).
+    pub fn mean(&self) -> f64 {
+        let total: u64 = self.histogram.iter().map(|(c, n)| c * n).sum();
+        total as f64 / self.pixels().max(1) as f64
+    }
+}
+
 /// What a comparison of many pixels found.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CompareReport {
     pub labels: Labels,
     pub counts: Counts,
+    /// Side A's cycles per pixel.
+    pub a_cycles: CycleStats,
     /// Distances of every lane both sides wrote.
     pub ulps: UlpHistogram,
     /// The controller states compared (state coverage).
@@ -579,6 +620,7 @@ impl CompareReport {
         CompareReport {
             labels,
             counts: Counts::default(),
+            a_cycles: CycleStats::default(),
             ulps: UlpHistogram::default(),
             states: StateSet::default(),
             first_divergence: None,
@@ -588,6 +630,7 @@ impl CompareReport {
     /// Adds one pixel's verdict.
     pub fn add(&mut self, v: &PixelVerdict) {
         self.counts += Counts::of(v);
+        self.a_cycles.add(v.a.cycles);
         self.ulps.merge(&v.ulps);
         self.states.union(&v.states);
         self.keep_first(v.first);
@@ -597,6 +640,7 @@ impl CompareReport {
     /// the order of merges.
     pub fn merge(&mut self, other: CompareReport) {
         self.counts += other.counts;
+        self.a_cycles.merge(&other.a_cycles);
         self.ulps.merge(&other.ulps);
         self.states.union(&other.states);
         self.keep_first(other.first_divergence);
