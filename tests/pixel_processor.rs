@@ -559,5 +559,8 @@ fn kept_frames_are_the_windows_colours() {
             );
         }
     }
-    assert!(cosim_all(&scene, window).frames.is_none(), "only when asked");
+    assert!(
+        cosim_all(&scene, window).frames.is_none(),
+        "only when asked"
+    );
 }

@@ -204,18 +204,31 @@ fn print_text(
             r.ulps
         )?;
     }
-    if !diff.divergent.is_empty() {
-        const SHOWN: usize = 20;
-        let shown: Vec<String> = diff
-            .divergent
-            .iter()
-            .take(if args.all { usize::MAX } else { SHOWN })
-            .map(|(x, y, class)| format!("({x}, {y}) {class}"))
-            .collect();
-        let more = diff.divergent.len() - shown.len();
+    // The divergent pixels, by class, in row order.
+    const SHOWN: usize = 20;
+    let limit = if args.all { usize::MAX } else { SHOWN };
+    let mut classes: Vec<(String, Vec<String>, usize)> = Vec::new();
+    for (x, y, class) in &diff.divergent {
+        let name = class.to_string();
+        let at = match classes.iter().position(|(n, _, _)| *n == name) {
+            Some(i) => i,
+            None => {
+                classes.push((name, Vec::new(), 0));
+                classes.len() - 1
+            }
+        };
+        let (_, shown, count) = &mut classes[at];
+        *count += 1;
+        if shown.len() < limit {
+            shown.push(format!("({x}, {y})"));
+        }
+    }
+    for (name, shown, count) in &classes {
+        let more = count - shown.len();
         writeln!(
             out,
-            "divergent pixels: {}{}",
+            "{name} ({count} pixel{}): {}{}",
+            plural(*count as u64),
             shown.join(", "),
             if more > 0 {
                 format!(", and {more} more (--all lists them)")
