@@ -54,3 +54,35 @@ pub fn run_silent(cmd: &mut Command, what: &str) {
         "{what}:\n{stderr}"
     );
 }
+
+/// Runs the built `rtcosim` binary with `args`.
+pub fn rtcosim(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_rtcosim"))
+        .args(args)
+        .output()
+        .expect("running rtcosim")
+}
+
+/// Output bytes as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A run's status, stdout and stderr, for a failure message.
+pub fn both(out: &std::process::Output) -> String {
+    format!(
+        "status {:?}\n--- stdout\n{}--- stderr\n{}",
+        out.status.code(),
+        text(&out.stdout),
+        text(&out.stderr)
+    )
+}
+
+/// A fresh, empty scratch directory `<crate>-<test>` under the target's
+/// temporary directory.
+pub fn scratch(krate: &str, test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{krate}-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creating the scratch directory");
+    dir
+}
