@@ -108,6 +108,8 @@ fn a_model_against_itself_differs_nowhere() {
         "micro",
         "--size",
         "16x12",
+        "--block",
+        "4",
         "--out",
         s(&dir),
     ]);
@@ -119,8 +121,12 @@ fn a_model_against_itself_differs_nowhere() {
     );
     assert!(stdout.contains("| 0.00001 | 0 | 0.0000% | - |"), "{stdout}");
     assert!(stdout.contains("largest differences: none"), "{stdout}");
+    // Heat maps in blocks of 4x4: 4 x 3 beside the legend; masks full size.
+    let heat = image::open(dir.join("heat-abs.png")).expect("a PNG");
+    assert_eq!((heat.width(), heat.height()), (4 + 64, 160));
     for t in ["0.00001", "0.0001", "0.5"] {
         let mask = luma(&dir.join(format!("mask-{t}.png")));
+        assert_eq!(mask.dimensions(), (16, 12));
         assert!(mask.pixels().all(|p| p.0[0] == 255), "{t}");
     }
 }

@@ -73,6 +73,11 @@ pub struct DiffMapArgs {
         default_values_t = THESIS_THRESHOLDS
     )]
     pub thresholds: Vec<f64>,
+    /// Draw the heat maps at 1/N of the frame's size, each map pixel the
+    /// largest difference of an NxN block (the masks stay full size): for
+    /// small files of large frames.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub block: u32,
     #[command(flatten)]
     pub threads: ThreadsArgs,
 }
@@ -238,7 +243,7 @@ pub fn run(args: DiffMapArgs) -> Result<()> {
     }
     let [(a, a_name), (b, b_name)] = <[_; 2]>::try_from(frames).expect("two sides");
     let map = DiffMap::new(&a, &b)?;
-    let (written, table) = map.write(&args.out, &a_name, &b_name, &args.thresholds)?;
+    let (written, table) = map.write(&args.out, &a_name, &b_name, &args.thresholds, args.block)?;
     write!(out, "\n{}", table.markdown())?;
     writeln!(
         out,

@@ -325,6 +325,10 @@ fn diffmap_usage_errors_say_what_is_wrong() {
             "slow",
         ),
         (&["micro"], "<B>"),
+        (
+            &["micro", "reference", "--out", "d", "--block", "0"],
+            "--block",
+        ),
     ] {
         let err = Cli::try_parse_from([&["rtcosim", "diffmap"][..], bad].concat())
             .expect_err("a usage error");

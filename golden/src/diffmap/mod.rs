@@ -239,8 +239,9 @@ impl DiffMap {
         img
     }
 
-    /// Heat map of the largest ULP distance per pixel, with its legend.
-    pub fn ulp_heat_map(&self) -> RgbImage {
+    /// Heat map of the largest ULP distance per pixel, with its legend; with
+    /// `block` > 1, per block of `block` x `block` pixels (see [`pool`]).
+    pub fn ulp_heat_map(&self, block: u32) -> RgbImage {
         let cells: Vec<Cell> = self
             .ulps
             .iter()
@@ -250,12 +251,12 @@ impl DiffMap {
                 Some(UlpDistance::NanMismatch) => Cell::Nan,
             })
             .collect();
-        self.heat_map(&cells, ULP_TITLE, 0)
+        self.heat_map(&cells, block, ULP_TITLE, 0)
     }
 
     /// Heat map of the largest absolute difference per pixel (0..255 scale),
-    /// with its legend.
-    pub fn abs_heat_map(&self) -> RgbImage {
+    /// with its legend; with `block` > 1, per block (see [`pool`]).
+    pub fn abs_heat_map(&self, block: u32) -> RgbImage {
         let cells: Vec<Cell> = self
             .pixel_abs()
             .map(|(d, _)| {
@@ -269,10 +270,11 @@ impl DiffMap {
             })
             .collect();
         // The smallest positive f64 difference is about 1e-322.
-        self.heat_map(&cells, ABS_TITLE, -330)
+        self.heat_map(&cells, block, ABS_TITLE, -330)
     }
 
-    fn heat_map(&self, cells: &[Cell], title: [&str; 2], floor: i32) -> RgbImage {
+    fn heat_map(&self, cells: &[Cell], block: u32, title: [&str; 2], floor: i32) -> RgbImage {
+        let (width, height, cells) = pool(self.width, self.height, cells, block);
         let range = cells.iter().fold(None, |r, c| match (r, c) {
             (None, Cell::Value(v)) => Some((*v, *v)),
             (Some((lo, hi)), Cell::Value(v)) => Some((v.min(lo), v.max(hi))),
@@ -284,18 +286,19 @@ impl DiffMap {
             tick_label: &draw::decade_label,
             nan: cells.contains(&Cell::Nan),
         };
-        draw::heat_map(self.width, self.height, cells, &legend)
+        draw::heat_map(width, height, &cells, &legend)
     }
 
-    /// Writes the heat maps, one mask per threshold and the table (as
-    /// Markdown and JSON) into `dir`, which must exist; returns the paths
-    /// written and the table.
+    /// Writes the heat maps (pooled over `block` x `block` pixels), one
+    /// mask per threshold (full size) and the table (as Markdown and JSON)
+    /// into `dir`, which must exist; returns the paths written and the table.
     pub fn write(
         &self,
         dir: &Path,
         a: &str,
         b: &str,
         thresholds: &[f64],
+        block: u32,
     ) -> Result<(Vec<PathBuf>, Table), DiffMapError> {
         let mut written = Vec::new();
         let mut png = |name: String, img: image::DynamicImage| {
@@ -308,8 +311,8 @@ impl DiffMap {
             written.push(path);
             Ok::<_, DiffMapError>(())
         };
-        png("heat-ulp.png".into(), self.ulp_heat_map().into())?;
-        png("heat-abs.png".into(), self.abs_heat_map().into())?;
+        png("heat-ulp.png".into(), self.ulp_heat_map(block).into())?;
+        png("heat-abs.png".into(), self.abs_heat_map(block).into())?;
         for &t in thresholds {
             png(mask_name(t), self.mask(t).into())?;
         }
@@ -325,6 +328,29 @@ impl DiffMap {
         }
         Ok((written, table))
     }
+}
+
+/// Pools `cells` (row-major, `width` x `height`) over blocks of `block` x
+/// `block` pixels (the last ones smaller where the size is not a multiple):
+/// each block is its worst cell (a NaN, else the largest value, else zero),
+/// so a difference is never hidden. Returns the pooled width, height and
+/// cells; `block` 0 or 1 keeps them.
+pub fn pool(width: u32, height: u32, cells: &[Cell], block: u32) -> (u32, u32, Vec<Cell>) {
+    if block <= 1 {
+        return (width, height, cells.to_vec());
+    }
+    let (w, h) = (width.div_ceil(block), height.div_ceil(block));
+    let mut pooled = vec![Cell::Zero; w as usize * h as usize];
+    for (i, &cell) in cells.iter().enumerate() {
+        let (x, y) = (i as u32 % width, i as u32 / width);
+        let p = &mut pooled[((y / block) * w + x / block) as usize];
+        *p = match (*p, cell) {
+            (Cell::Nan, _) | (_, Cell::Zero) => *p,
+            (_, Cell::Nan) | (Cell::Zero, _) => cell,
+            (Cell::Value(v), Cell::Value(c)) => Cell::Value(v.max(c)),
+        };
+    }
+    (w, h, pooled)
 }
 
 /// The file name of the mask at `threshold`: `mask-0.00001.png`.

@@ -131,7 +131,7 @@ fn ulps_are_counted_on_f32_values_and_the_f64_side_is_rounded_first() {
 fn heat_maps_have_the_frame_beside_a_legend() {
     let (a, b) = pair();
     let map = DiffMap::new(&a, &b).expect("same size");
-    for img in [map.ulp_heat_map(), map.abs_heat_map()] {
+    for img in [map.ulp_heat_map(1), map.abs_heat_map(1)] {
         // 3 + the legend strip wide, at least the legend's height tall.
         assert_eq!(img.dimensions(), (3 + draw::LEGEND_WIDTH, draw::MIN_HEIGHT));
         // Pixels that do not differ are black; the others are not.
@@ -152,7 +152,7 @@ fn heat_maps_have_the_frame_beside_a_legend() {
     }
     // The ramp's green rises from end to end, so larger differences are
     // greener: (0,1) 1.0 > (1,1) 0.7 > (2,0) 3e-4 > (1,0) 2e-5.
-    let img = map.abs_heat_map();
+    let img = map.abs_heat_map(1);
     let green = |x, y| img.get_pixel(x, y).0[1];
     assert!(green(0, 1) > green(1, 1), "{img:?}");
     assert!(green(1, 1) > green(2, 0) && green(2, 0) > green(1, 0));
@@ -163,8 +163,8 @@ fn a_nan_on_one_side_is_its_own_colour_and_an_infinite_difference() {
     let a = Frame::from_pixels(2, 1, vec![[f64::NAN, 0.0, 0.0], [0.0; 3]]).expect("2 px");
     let b = Frame::black(2, 1);
     let map = DiffMap::new(&a, &b).expect("same size");
-    assert_eq!(*map.ulp_heat_map().get_pixel(0, 0), draw::NAN);
-    assert_eq!(*map.abs_heat_map().get_pixel(0, 0), draw::NAN);
+    assert_eq!(*map.ulp_heat_map(1).get_pixel(0, 0), draw::NAN);
+    assert_eq!(*map.abs_heat_map(1).get_pixel(0, 0), draw::NAN);
     let t = map.table("a", "b", &[0.5]);
     assert_eq!(t.nan_mismatches, 1);
     assert_eq!(t.rows[0].over, 1);
@@ -188,7 +188,7 @@ fn the_font_has_every_character_of_the_titles() {
 #[test]
 fn big_frames_get_a_bigger_legend() {
     let a = Frame::black(500, 400);
-    let img = DiffMap::new(&a, &a).expect("same size").ulp_heat_map();
+    let img = DiffMap::new(&a, &a).expect("same size").ulp_heat_map(1);
     assert_eq!(img.dimensions(), (500 + 2 * draw::LEGEND_WIDTH, 400));
 }
 
@@ -204,7 +204,7 @@ fn write_puts_maps_masks_and_tables_into_the_directory() -> Result<(), Box<dyn s
     std::fs::create_dir_all(&dir)?;
     let (a, b) = pair();
     let map = DiffMap::new(&a, &b)?;
-    let (written, table) = map.write(&dir, "side a", "side b", &THESIS_THRESHOLDS)?;
+    let (written, table) = map.write(&dir, "side a", "side b", &THESIS_THRESHOLDS, 1)?;
     let names: Vec<String> = written
         .iter()
         .map(|p| {
@@ -252,7 +252,13 @@ fn write_names_the_file_it_cannot_write() {
     let (a, b) = pair();
     let map = DiffMap::new(&a, &b).expect("same size");
     let err = map
-        .write(Path::new("/nonexistent-golden-diffmap"), "a", "b", &[0.5])
+        .write(
+            Path::new("/nonexistent-golden-diffmap"),
+            "a",
+            "b",
+            &[0.5],
+            1,
+        )
         .expect_err("no such directory");
     assert!(
         err.to_string()
@@ -271,4 +277,31 @@ fn short_numbers_keep_four_significant_digits() {
     assert_eq!(short(0.999_999_9), "1.000");
     assert_eq!(short(9.99996e-5), "0.0001000");
     assert_eq!(short(9.99996e-6), "1.000e-5");
+}
+
+#[test]
+fn pooling_keeps_the_worst_cell_of_each_block() {
+    use draw::Cell::{Nan, Value, Zero};
+    // 5 x 3 cells in blocks of 2: 3 x 2 blocks, the last column and row
+    // narrower.
+    #[rustfmt::skip]
+    let cells = [
+        Zero,       Value(1.0), Zero, Zero, Value(7.0),
+        Value(3.0), Zero,       Nan,  Zero, Zero,
+        Zero,       Zero,       Zero, Zero, Value(0.5),
+    ];
+    let (w, h, pooled) = pool(5, 3, &cells, 2);
+    assert_eq!((w, h), (3, 2));
+    assert_eq!(
+        pooled,
+        [Value(3.0), Nan, Value(7.0), Zero, Zero, Value(0.5)]
+    );
+    assert_eq!(pool(5, 3, &cells, 1), (5, 3, cells.to_vec()));
+    // A pooled heat map is the pooled size beside the legend.
+    let (a, b) = pair();
+    let img = DiffMap::new(&a, &b).expect("same size").abs_heat_map(2);
+    assert_eq!(img.dimensions(), (2 + draw::LEGEND_WIDTH, draw::MIN_HEIGHT));
+    // Blocks: {(0,0),(1,0),(0,1),(1,1)} and {(2,0),(2,1)} both differ.
+    assert_ne!(*img.get_pixel(0, 0), draw::ZERO);
+    assert_ne!(*img.get_pixel(1, 0), draw::ZERO);
 }
