@@ -7,7 +7,7 @@ use crate::args::{check_parent_dir, MethodArg, SceneArgs, ThreadsArgs};
 use crate::render::Model;
 use crate::ui::progress_bar;
 use anyhow::{bail, Context, Result};
-use golden::diffmap::{DiffMap, THESIS_THRESHOLDS};
+use golden::diffmap::DiffMap;
 use golden::frame::Frame;
 use golden::scene::Scene;
 use golden::window::Window;
@@ -31,6 +31,10 @@ Examples:
   # Two frame files.
   rtcosim diffmap run1/rtl.exr run2/rtl.exr --out maps
 
+The models render --scene (with --size); --recip/--sqrt set the methods of both \
+model sides, --a-recip/--a-sqrt/--b-recip/--b-sqrt one side's (the thesis compared an \
+RTL and a model whose operators differed in accuracy).
+
 Writes into DIR: heat-ulp.png and heat-abs.png (per pixel the largest channel \
 difference, in ULPs of f32 and on the 0..255 scale, log colour scale with a legend; \
 black: no difference), mask-<T>.png per threshold (black where a channel differs by \
@@ -47,8 +51,8 @@ pub struct DiffMapArgs {
     /// its parent must exist).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// The scene the models render (ignored when A and B are both files);
-    /// --recip/--sqrt set both model sides' methods.
+    // The scene the models render (unused when A and B are both files);
+    // --recip/--sqrt set both model sides' methods.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Side A's reciprocal method, overriding --recip and the scene's.
@@ -70,7 +74,7 @@ pub struct DiffMapArgs {
         value_name = "T,T,...",
         value_delimiter = ',',
         value_parser = parse_threshold,
-        default_values_t = THESIS_THRESHOLDS
+        default_value = "0.00001,0.0001,0.5"
     )]
     pub thresholds: Vec<f64>,
     /// Draw the heat maps at 1/N of the frame's size, each map pixel the
