@@ -251,3 +251,46 @@ fn bad_requests_exit_2_and_say_what_is_wrong() {
     // Nothing was written for any of them.
     assert!(!out_dir.exists());
 }
+
+/// A reference frame written to a file is rounded to f32: against the f64
+/// frame rendered in-process it moves no channel by more than 2^-25 (for
+/// values up to 1), under the 0.00001 threshold, though many differ.
+#[test]
+fn a_reference_file_differs_from_the_in_process_reference_by_its_rounding_only() {
+    let dir = scratch("reference-file");
+    let scene = golden::scene::Scene::builtin("reference")
+        .expect("builtin")
+        .resized(16, 12, "16x12")
+        .expect("a smaller image of a valid scene");
+    let frame = golden::reference::render(&scene, &|_| {});
+    assert!(
+        frame.max_channel() <= 1.0,
+        "the bound below is for values up to 1"
+    );
+    let file = dir.join("reference.exr");
+    frame.save_exr(&file).expect("writing the frame file");
+    let maps = dir.join("maps");
+    let out = rtcosim(&[
+        "diffmap",
+        s(&file),
+        "reference",
+        "--size",
+        "16x12",
+        "--thresholds",
+        "0,0.00001",
+        "--out",
+        s(&maps),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let table = json(&maps);
+    // Some channels are not f32 values, so they moved; none by 1e-5.
+    assert!(
+        table["rows"][0]["over"].as_u64().expect("a count") > 0,
+        "{table}"
+    );
+    assert_eq!(table["rows"][1]["over"], 0, "{table}");
+    let largest = table["largest"][0]["value"].as_f64().expect("a difference");
+    assert!(largest <= 255.0 * 2f64.powi(-25), "{largest}");
+    // Rounded to f32 first, the reference is 0 ULP from its file.
+    assert_eq!(table["max_ulps"], 0, "{table}");
+}
