@@ -25,7 +25,7 @@
 //! or f16 (f16 widens to f32 exactly) and not subsampled.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// An image, row-major (`pixels[y * width + x]`, y = 0 at the top), linear
@@ -186,24 +186,24 @@ impl Frame {
             path: path.to_path_buf(),
             reason,
         };
-        let mut magic = [0u8; 4];
-        let mut file = File::open(path).map_err(io_err)?;
-        let got = read_up_to(&mut file, &mut magic).map_err(io_err)?;
-        if magic[..got] != EXR_MAGIC[..] {
+        // Read once: the checks and the decoder see the same bytes.
+        let file = std::fs::read(path).map_err(io_err)?;
+        if !file.starts_with(&EXR_MAGIC) {
             return Err(FrameError::NotExr {
                 path: path.to_path_buf(),
             });
         }
-        let meta = exr::meta::MetaData::read_from_file(path, false)
+        let meta = exr::meta::MetaData::read_from_buffered(file.as_slice(), false)
             .map_err(|e| read_err(e.to_string()))?;
         check_exr_layout(&meta).map_err(|problem| FrameError::ExrLayout {
             path: path.to_path_buf(),
             problem,
         })?;
-        let file = BufReader::new(File::open(path).map_err(io_err)?);
-        let decoder =
-            image::codecs::openexr::OpenExrDecoder::with_alpha_preference(file, Some(false))
-                .map_err(|e| read_err(e.to_string()))?;
+        let decoder = image::codecs::openexr::OpenExrDecoder::with_alpha_preference(
+            std::io::Cursor::new(file.as_slice()),
+            Some(false),
+        )
+        .map_err(|e| read_err(e.to_string()))?;
         let (width, height) = image::ImageDecoder::dimensions(&decoder);
         let len = image::ImageDecoder::total_bytes(&decoder);
         let mut bytes = vec![0u8; usize::try_from(len).map_err(|e| read_err(e.to_string()))?];
@@ -259,18 +259,6 @@ impl Frame {
 /// The first four bytes of every OpenEXR file.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
-/// Reads into `buf` until it is full or the reader ends; the bytes read.
-fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
-    let mut got = 0;
-    while got < buf.len() {
-        match r.read(&mut buf[got..])? {
-            0 => break,
-            n => got += n,
-        }
-    }
-    Ok(got)
-}
-
 /// Whether `meta` describes a frame file: one flat layer, channels exactly
 /// R, G, B, each f32 or f16, not subsampled; else what is wrong.
 fn check_exr_layout(meta: &exr::meta::MetaData) -> Result<(), String> {
@@ -280,6 +268,16 @@ fn check_exr_layout(meta: &exr::meta::MetaData) -> Result<(), String> {
     };
     if header.deep {
         return Err("a deep-data layer".into());
+    }
+    let size = header.shared_attributes.display_window.size;
+    let side = 1..=crate::scene::MAX_IMAGE_SIDE as usize;
+    if !side.contains(&size.0) || !side.contains(&size.1) {
+        return Err(format!(
+            "an image of {}x{} pixels (a frame has 1..={} a side)",
+            size.0,
+            size.1,
+            side.end()
+        ));
     }
     let channels = &header.channels.list;
     let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
@@ -548,6 +546,21 @@ mod tests {
             msg.contains("rgba.exr")
                 && msg.contains("wrong channel layout")
                 && msg.contains("channels A, B, G, R"),
+            "{msg}"
+        );
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
+    }
+
+    #[test]
+    fn an_exr_larger_than_any_frame_is_refused_before_it_is_decoded(
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        let dir = scratch("exr-huge");
+        let path = dir.join("wide.exr");
+        Frame::black(crate::scene::MAX_IMAGE_SIDE + 1, 1).save_exr(&path)?;
+        let msg = Frame::load_exr(&path).expect_err("too wide").to_string();
+        assert!(
+            msg.contains("wide.exr") && msg.contains("4097x1 pixels"),
             "{msg}"
         );
         std::fs::remove_dir_all(&dir)?;
