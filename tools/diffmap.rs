@@ -86,24 +86,41 @@ pub struct DiffMapArgs {
     pub threads: ThreadsArgs,
 }
 
-/// One side of the comparison.
+/// One side of the comparison, as the command line names it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Source {
-    /// A golden model, rendered here.
-    Golden(Model),
-    /// The verilated pixel processor, co-simulated here.
-    Rtl,
+    /// A model, rendered here.
+    Model(Renderer),
     /// A frame file.
     File(PathBuf),
+}
+
+/// What renders a model side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Renderer {
+    /// A golden model.
+    Golden(Model),
+    /// The verilated pixel processor, co-simulated against micro.
+    Rtl,
+}
+
+impl Renderer {
+    fn name(self) -> &'static str {
+        match self {
+            Renderer::Golden(Model::Reference) => "reference",
+            Renderer::Golden(Model::Micro) => "micro",
+            Renderer::Rtl => "rtl",
+        }
+    }
 }
 
 /// A model name, else a frame file (which must exist or end in .exr, so a
 /// misspelt model name is an error here, not a missing file later).
 pub fn parse_source(s: &str) -> Result<Source, String> {
     match s {
-        "reference" => return Ok(Source::Golden(Model::Reference)),
-        "micro" => return Ok(Source::Golden(Model::Micro)),
-        "rtl" => return Ok(Source::Rtl),
+        "reference" => return Ok(Source::Model(Renderer::Golden(Model::Reference))),
+        "micro" => return Ok(Source::Model(Renderer::Golden(Model::Micro))),
+        "rtl" => return Ok(Source::Model(Renderer::Rtl)),
         _ => {}
     }
     let path = PathBuf::from(s);
@@ -138,55 +155,61 @@ struct Side<'a> {
     sqrt: Option<MethodArg>,
 }
 
-impl Side<'_> {
-    /// The scene this side's model renders (`None` for a file).
-    fn scene(&self, args: &SceneArgs) -> Result<Option<Scene>> {
-        if let Source::File(path) = self.source {
-            if self.recip.is_some() || self.sqrt.is_some() {
-                bail!(
-                    "--{0}-recip/--{0}-sqrt set a model's methods, but {1} is the frame file {2}",
-                    self.name.to_ascii_lowercase(),
-                    self.name,
-                    path.display()
-                );
-            }
-            return Ok(None);
+/// A side ready to run: a frame read from its file, or a model and its scene.
+enum Input {
+    File(PathBuf, Frame),
+    Model(Renderer, Scene),
+}
+
+impl Input {
+    fn size(&self) -> (u32, u32) {
+        match self {
+            Input::File(_, f) => (f.width, f.height),
+            Input::Model(_, s) => (s.camera.width, s.camera.height),
         }
-        let mut args = args.clone();
-        args.recip = self.recip.or(args.recip);
-        args.sqrt = self.sqrt.or(args.sqrt);
-        Ok(Some(args.load()?))
     }
 
     /// What this side is, for the table: the model and its scene, or the file.
-    fn describe(&self, scene_name: &str, scene: Option<&Scene>, frame: &Frame) -> String {
-        match (self.source, scene) {
-            (Source::File(path), _) => {
-                format!("file {} ({}x{})", path.display(), frame.width, frame.height)
+    fn describe(&self, scene_name: &str) -> String {
+        let (w, h) = self.size();
+        match self {
+            Input::File(path, _) => format!("file {} ({w}x{h})", path.display()),
+            Input::Model(Renderer::Golden(Model::Reference), _) => {
+                format!("reference (scene {scene_name} {w}x{h}, f64)")
             }
-            (Source::Golden(Model::Reference), Some(scene)) => format!(
-                "reference (scene {scene_name} {}x{}, f64)",
-                scene.camera.width, scene.camera.height
-            ),
-            (source, Some(scene)) => format!(
-                "{} (scene {scene_name} {}x{}, recip {}, sqrt {})",
-                model_name(source),
-                scene.camera.width,
-                scene.camera.height,
+            Input::Model(renderer, scene) => format!(
+                "{} (scene {scene_name} {w}x{h}, recip {}, sqrt {})",
+                renderer.name(),
                 scene.render.recip,
                 scene.render.sqrt
             ),
-            (source, None) => model_name(source).to_string(),
         }
     }
 }
 
-fn model_name(source: &Source) -> &'static str {
-    match source {
-        Source::Golden(Model::Reference) => "reference",
-        Source::Golden(Model::Micro) => "micro",
-        Source::Rtl => "rtl",
-        Source::File(_) => "file",
+impl Side<'_> {
+    /// Reads this side's file, or loads the scene its model renders.
+    fn input(&self, args: &SceneArgs) -> Result<Input> {
+        match self.source {
+            Source::Model(renderer) => {
+                let mut args = args.clone();
+                args.recip = self.recip.or(args.recip);
+                args.sqrt = self.sqrt.or(args.sqrt);
+                Ok(Input::Model(*renderer, args.load()?))
+            }
+            Source::File(path) => {
+                if self.recip.is_some() || self.sqrt.is_some() {
+                    bail!(
+                        "--{0}-recip/--{0}-sqrt set a model's methods, but {1} is the frame file {2}",
+                        self.name.to_ascii_lowercase(),
+                        self.name,
+                        path.display()
+                    );
+                }
+                let frame = Frame::load_exr(path).with_context(|| format!("side {}", self.name))?;
+                Ok(Input::File(path.clone(), frame))
+            }
+        }
     }
 }
 
@@ -206,43 +229,26 @@ pub fn run(args: DiffMapArgs) -> Result<()> {
             sqrt: args.b_sqrt,
         },
     ];
-    let scenes = [sides[0].scene(&args.scene)?, sides[1].scene(&args.scene)?];
-    let mut files = [None, None];
-    for (file, side) in files.iter_mut().zip(&sides) {
-        if let Source::File(path) = side.source {
-            *file = Some(Frame::load_exr(path).with_context(|| format!("side {}", side.name))?);
-        }
-    }
-    let size = |i: usize| match (&files[i], &scenes[i]) {
-        (Some(f), _) => (f.width, f.height),
-        (None, Some(s)) => (s.camera.width, s.camera.height),
-        (None, None) => unreachable!("a side is a file or a model"),
-    };
-    if size(0) != size(1) {
-        bail!(
-            "A is {}x{} and B is {}x{}: the frames must have the same size{}",
-            size(0).0,
-            size(0).1,
-            size(1).0,
-            size(1).1,
-            if files.iter().any(Option::is_some) {
-                " (--size WxH renders a model at the file's size)"
-            } else {
-                ""
-            }
-        );
+    let inputs = [sides[0].input(&args.scene)?, sides[1].input(&args.scene)?];
+    let [(aw, ah), (bw, bh)] = [inputs[0].size(), inputs[1].size()];
+    if (aw, ah) != (bw, bh) {
+        let hint = if inputs.iter().any(|i| matches!(i, Input::File(..))) {
+            " (--size WxH renders a model at the file's size)"
+        } else {
+            ""
+        };
+        bail!("A is {aw}x{ah} and B is {bw}x{bh}: the frames must have the same size{hint}");
     }
     prepare_out_dir(&args.out)?;
     let pool = args.threads.pool()?;
     let mut out = std::io::stdout().lock();
     let mut frames = Vec::new();
-    for ((side, scene), file) in sides.iter().zip(&scenes).zip(files) {
-        let frame = match (file, scene) {
-            (Some(frame), _) => frame,
-            (None, Some(scene)) => render(side, scene, &pool, &mut out)?,
-            (None, None) => unreachable!("a side is a file or a model"),
+    for (side, input) in sides.iter().zip(inputs) {
+        let described = input.describe(&args.scene.scene);
+        let frame = match input {
+            Input::File(_, frame) => frame,
+            Input::Model(renderer, scene) => render(side.name, renderer, &scene, &pool, &mut out)?,
         };
-        let described = side.describe(&args.scene.scene, scene.as_ref(), &frame);
         frames.push((frame, described));
     }
     let [(a, a_name), (b, b_name)] = <[_; 2]>::try_from(frames).expect("two sides");
@@ -278,18 +284,19 @@ fn prepare_out_dir(dir: &std::path::Path) -> Result<()> {
 
 /// Renders (or co-simulates) one side's frame, with a progress bar.
 fn render(
-    side: &Side,
+    side: char,
+    renderer: Renderer,
     scene: &Scene,
     pool: &rayon::ThreadPool,
     out: &mut impl Write,
 ) -> Result<Frame> {
-    let label = format!("{} {:<9}", side.name, model_name(side.source));
+    let label = format!("{side} {:<9}", renderer.name());
     let bar = progress_bar(scene.pixel_count(), &label, "{percent:>3}% ({eta})")?;
     let start = Instant::now();
     let progress = |n| bar.inc(n);
-    let frame = match side.source {
-        Source::Golden(model) => pool.install(|| model.render(scene, &progress).0),
-        Source::Rtl => {
+    let frame = match renderer {
+        Renderer::Golden(model) => pool.install(|| model.render(scene, &progress).0),
+        Renderer::Rtl => {
             let options = CosimOptions {
                 keep_frames: true,
                 ..Default::default()
@@ -300,7 +307,7 @@ fn render(
             writeln!(
                 out,
                 "{}: rtl co-simulated against micro (recip {}, sqrt {}): {}",
-                side.name,
+                side,
                 report.recip,
                 report.sqrt,
                 if report.passed() {
@@ -317,14 +324,13 @@ fn render(
                 .context("the co-simulation kept no frames")?
                 .rtl
         }
-        Source::File(_) => unreachable!("files are read, not rendered"),
     };
     bar.finish_and_clear();
     writeln!(
         out,
         "{}: {} rendered {}x{} in {:.1} s",
-        side.name,
-        model_name(side.source),
+        side,
+        renderer.name(),
         frame.width,
         frame.height,
         start.elapsed().as_secs_f64()

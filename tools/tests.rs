@@ -244,7 +244,7 @@ fn every_scene_command_shares_one_scene_group_listing_every_builtin() {
 
 #[test]
 fn a_diffmap_command_line_with_per_side_methods_parses() {
-    use crate::diffmap::Source;
+    use crate::diffmap::{Renderer, Source};
     let cli = Cli::try_parse_from([
         "rtcosim",
         "diffmap",
@@ -269,7 +269,10 @@ fn a_diffmap_command_line_with_per_side_methods_parses() {
     };
     assert_eq!(
         (args.a, args.b),
-        (Source::Rtl, Source::Golden(Model::Micro))
+        (
+            Source::Model(Renderer::Rtl),
+            Source::Model(Renderer::Golden(Model::Micro))
+        )
     );
     assert_eq!(
         (args.a_recip, args.a_sqrt),
@@ -283,7 +286,7 @@ fn a_diffmap_command_line_with_per_side_methods_parses() {
 
 #[test]
 fn diffmap_defaults_to_the_thesis_thresholds_and_takes_frame_files() {
-    use crate::diffmap::Source;
+    use crate::diffmap::{Renderer, Source};
     let cli = Cli::try_parse_from([
         "rtcosim",
         "diffmap",
@@ -297,7 +300,7 @@ fn diffmap_defaults_to_the_thesis_thresholds_and_takes_frame_files() {
         panic!("expected the diffmap subcommand");
     };
     assert_eq!(args.a, Source::File(PathBuf::from("run/rtl.exr")));
-    assert_eq!(args.b, Source::Golden(Model::Reference));
+    assert_eq!(args.b, Source::Model(Renderer::Golden(Model::Reference)));
     // The table near the thesis' figure 17.
     assert_eq!(args.thresholds, [0.00001, 0.0001, 0.5]);
     assert_eq!(args.scene.scene, "reference");
