@@ -11,14 +11,14 @@ use std::process::Output;
 
 mod common;
 
-use common::{arg, run_bin, scratch_dir, text};
+use common::{arg, run_bin, text};
 
 fn rtcosim(args: &[&str]) -> Output {
     run_bin(env!("CARGO_BIN_EXE_rtcosim"), args)
 }
 
 fn scratch(test: &str) -> PathBuf {
-    scratch_dir("cli_trace", test)
+    common::scratch("cli_trace", test)
 }
 
 fn s(p: &Path) -> &str {

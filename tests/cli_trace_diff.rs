@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{arg, run_bin, scratch_dir, text};
+use common::{arg, run_bin, text};
 use golden::micro::{isa, Fault, Processor};
 use golden::scene::Scene;
 use golden::trace::{TraceEvent, TraceReader, TraceRecord, TraceWriter};
@@ -165,7 +165,7 @@ fn assert_located(stdout: &str, pixel: (u32, u32), state_name: &str) {
 
 #[test]
 fn clean_rtl_and_golden_traces_agree_and_both_binaries_say_so() {
-    let dir = scratch_dir("trace_diff", "clean");
+    let dir = common::scratch("trace_diff", "clean");
     let rtl = rtl_trace(&dir, "rtl.rtt", "20,10,35,25", None);
     let golden = golden_trace(&dir, "golden.rtt", "20,10,35,25", None);
     for out in [
@@ -185,7 +185,7 @@ fn clean_rtl_and_golden_traces_agree_and_both_binaries_say_so() {
 
 #[test]
 fn a_numeric_fault_in_the_rtl_is_located_and_classed_as_drift() {
-    let dir = scratch_dir("trace_diff", "rtl-numeric");
+    let dir = common::scratch("trace_diff", "rtl-numeric");
     let rtl = rtl_trace(&dir, "rtl.rtt", "30,20,33,22", Some("PRI_HALF:0x400"));
     let golden = golden_trace(&dir, "golden.rtt", "30,20,33,22", None);
     let out = trace_diff(&[arg(&rtl), arg(&golden), "--context", "1"]);
@@ -214,7 +214,7 @@ fn a_numeric_fault_in_the_rtl_is_located_and_classed_as_drift() {
 
 #[test]
 fn a_control_flow_fault_in_the_rtl_reports_the_split_branch_and_cause() {
-    let dir = scratch_dir("trace_diff", "rtl-control");
+    let dir = common::scratch("trace_diff", "rtl-control");
     let fault_text = "SPH_T:0x80000000";
     let rtl = rtl_trace(&dir, "rtl.rtt", "28,9", Some(fault_text));
     let golden = golden_trace(&dir, "golden.rtt", "28,9", None);
@@ -241,7 +241,7 @@ fn a_control_flow_fault_in_the_rtl_reports_the_split_branch_and_cause() {
 
 #[test]
 fn faults_on_the_golden_side_are_located_too() {
-    let dir = scratch_dir("trace_diff", "golden-side");
+    let dir = common::scratch("trace_diff", "golden-side");
     let rtl = rtl_trace(&dir, "rtl.rtt", "28,9,31,10", None);
     let numeric = golden_trace(&dir, "numeric.rtt", "28,9,31,10", Some("PRI_HALF:0x400"));
     let out = trace_diff(&[arg(&rtl), arg(&numeric)]);
@@ -276,7 +276,7 @@ fn rewrite(from: &Path, to: &Path, mut edit: impl FnMut(usize, &mut TraceRecord)
 
 #[test]
 fn max_ulps_pixel_and_json_do_what_they_say() {
-    let dir = scratch_dir("trace_diff", "options");
+    let dir = common::scratch("trace_diff", "options");
     let golden = golden_trace(&dir, "a.rtt", "10,10,12,11", None);
     // One value of pixel (11, 10), 1 ULP up: lane x of its first event from
     // #5 on that writes lane x.
@@ -334,7 +334,7 @@ fn refusal(a: &Path, b: &Path) -> String {
 
 #[test]
 fn bad_truncated_foreign_and_mismatched_files_are_clear_errors() {
-    let dir = scratch_dir("trace_diff", "bad");
+    let dir = common::scratch("trace_diff", "bad");
     let good = golden_trace(&dir, "good.rtt", "5,5,6,5", None);
     let bytes = std::fs::read(&good).expect("read");
     // Cut inside a record.

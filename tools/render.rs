@@ -64,7 +64,11 @@ impl Model {
 
     /// Renders `scene` on the current rayon pool, with the cycle statistics
     /// of the models that have them.
-    fn render(self, scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> (Frame, Option<FrameStats>) {
+    pub fn render(
+        self,
+        scene: &Scene,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Frame, Option<FrameStats>) {
         match self {
             Model::Reference => (golden::reference::render(scene, progress), None),
             Model::Micro => {

@@ -6,6 +6,7 @@
 
 mod args;
 mod cosim;
+mod diffmap;
 mod exit;
 mod fp_check;
 mod fuzz;
@@ -33,6 +34,13 @@ enum Command {
     /// pixel's colour and cycle count is compared. Exits 0 when everything
     /// agrees, 1 on any divergence, 2 on an error (a hung RTL is one).
     Cosim(cosim::CosimArgs),
+    /// Where two renders differ: heat maps (ULPs, 0..255 scale), the
+    /// thesis' masks at thresholds (figure 17) and its table of differences.
+    ///
+    /// A and B are each a model rendered here (reference, micro, rtl) or a
+    /// frame file (.exr); per-side methods with --a-recip, --b-sqrt, ...
+    /// Exits 0 when the maps are written, 2 on an error.
+    Diffmap(diffmap::DiffMapArgs),
     /// Co-simulate the float units of rtl/fp against golden::fp: edge cases,
     /// then seeded random operands (or every input, for unary units).
     FpCheck(fp_check::FpCheckArgs),
@@ -55,6 +63,7 @@ enum Command {
 fn main() -> ExitCode {
     exit::status(match Cli::parse().command {
         Command::Cosim(args) => cosim::run(args),
+        Command::Diffmap(args) => diffmap::run(args).map(|()| true),
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),
         Command::Render(args) => render::run(args).map(|()| true),

@@ -222,7 +222,7 @@ fn faults_name_a_state_by_name_or_number_and_a_nonzero_mask() {
 #[test]
 fn every_scene_command_shares_one_scene_group_listing_every_builtin() {
     let cmd = Cli::command();
-    for sub in ["render", "cosim"] {
+    for sub in ["render", "cosim", "diffmap"] {
         let sub = cmd.find_subcommand(sub).expect("subcommand");
         for flag in ["scene", "size", "recip", "sqrt", "threads"] {
             assert!(
@@ -239,5 +239,103 @@ fn every_scene_command_shares_one_scene_group_listing_every_builtin() {
         for name in Scene::builtin_names() {
             assert!(help.contains(name), "--scene help lacks {name}: {help}");
         }
+    }
+}
+
+#[test]
+fn a_diffmap_command_line_with_per_side_methods_parses() {
+    use crate::diffmap::{Renderer, Source};
+    let cli = Cli::try_parse_from([
+        "rtcosim",
+        "diffmap",
+        "rtl",
+        "micro",
+        "--a-recip",
+        "fast",
+        "--a-sqrt",
+        "fast",
+        "--b-sqrt",
+        "exact",
+        "--size",
+        "16x12",
+        "--thresholds",
+        "1e-5,0.5,3",
+        "--out",
+        "/tmp/maps",
+    ])
+    .expect("valid command line");
+    let Command::Diffmap(args) = cli.command else {
+        panic!("expected the diffmap subcommand, got {:?}", cli.command);
+    };
+    assert_eq!(
+        (args.a, args.b),
+        (
+            Source::Model(Renderer::Rtl),
+            Source::Model(Renderer::Golden(Model::Micro))
+        )
+    );
+    assert_eq!(
+        (args.a_recip, args.a_sqrt),
+        (Some(MethodArg::Fast), Some(MethodArg::Fast))
+    );
+    assert_eq!((args.b_recip, args.b_sqrt), (None, Some(MethodArg::Exact)));
+    assert_eq!((args.scene.recip, args.scene.sqrt), (None, None));
+    assert_eq!(args.thresholds, [0.00001, 0.5, 3.0]);
+    assert_eq!(args.out, PathBuf::from("/tmp/maps"));
+}
+
+#[test]
+fn diffmap_defaults_to_the_thesis_thresholds_and_takes_frame_files() {
+    use crate::diffmap::{Renderer, Source};
+    let cli = Cli::try_parse_from([
+        "rtcosim",
+        "diffmap",
+        "run/rtl.exr",
+        "reference",
+        "--out",
+        "d",
+    ])
+    .expect("valid command line");
+    let Command::Diffmap(args) = cli.command else {
+        panic!("expected the diffmap subcommand");
+    };
+    assert_eq!(args.a, Source::File(PathBuf::from("run/rtl.exr")));
+    assert_eq!(args.b, Source::Model(Renderer::Golden(Model::Reference)));
+    // The table near the thesis' figure 17.
+    assert_eq!(args.thresholds, [0.00001, 0.0001, 0.5]);
+    assert_eq!(args.scene.scene, "reference");
+}
+
+#[test]
+fn diffmap_usage_errors_say_what_is_wrong() {
+    for (bad, message) in [
+        (&["mikro", "micro", "--out", "d"][..], "neither a model"),
+        (&["micro", "reference"], "--out"),
+        (
+            &["micro", "reference", "--out", "d", "--thresholds=-1"],
+            "threshold >= 0",
+        ),
+        (
+            &["micro", "reference", "--out", "d", "--thresholds", "0.1,x"],
+            "threshold >= 0",
+        ),
+        (
+            &["micro", "reference", "--out", "d", "--thresholds", "inf"],
+            "threshold >= 0",
+        ),
+        (
+            &["micro", "reference", "--out", "d", "--a-recip", "slow"],
+            "slow",
+        ),
+        (&["micro"], "<B>"),
+        (
+            &["micro", "reference", "--out", "d", "--block", "0"],
+            "--block",
+        ),
+    ] {
+        let err = Cli::try_parse_from([&["rtcosim", "diffmap"][..], bad].concat())
+            .expect_err("a usage error");
+        assert_eq!(err.exit_code(), 2, "{bad:?}");
+        assert!(err.to_string().contains(message), "{bad:?}: {err}");
     }
 }

@@ -55,8 +55,7 @@ pub fn run_silent(cmd: &mut Command, what: &str) {
     );
 }
 
-/// Runs a binary of this package (`CARGO_BIN_EXE_<name>`, passed by the
-/// caller because only integration tests see it) with `args`.
+/// Runs a binary of this package (`CARGO_BIN_EXE_<name>`) with `args`.
 pub fn run_bin(bin: &str, args: &[&str]) -> std::process::Output {
     Command::new(bin)
         .args(args)
@@ -64,12 +63,9 @@ pub fn run_bin(bin: &str, args: &[&str]) -> std::process::Output {
         .unwrap_or_else(|e| panic!("running {bin}: {e}"))
 }
 
-/// A fresh scratch directory `<group>-<test>` under the target directory.
-pub fn scratch_dir(group: &str, test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{group}-{test}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating the scratch directory");
-    dir
+/// Runs the built `rtcosim` binary with `args`.
+pub fn rtcosim(args: &[&str]) -> std::process::Output {
+    run_bin(env!("CARGO_BIN_EXE_rtcosim"), args)
 }
 
 /// Output bytes as text.
@@ -80,4 +76,23 @@ pub fn text(bytes: &[u8]) -> String {
 /// A path as a command-line argument.
 pub fn arg(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")
+}
+
+/// A run's status, stdout and stderr, for a failure message.
+pub fn both(out: &std::process::Output) -> String {
+    format!(
+        "status {:?}\n--- stdout\n{}--- stderr\n{}",
+        out.status.code(),
+        text(&out.stdout),
+        text(&out.stderr)
+    )
+}
+
+/// A fresh, empty scratch directory `<crate>-<test>` under the target's
+/// temporary directory.
+pub fn scratch(krate: &str, test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{krate}-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creating the scratch directory");
+    dir
 }
