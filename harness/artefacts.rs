@@ -2,6 +2,10 @@
 //! people and for CI systems:
 //!
 //! - `rtl.png`, `golden.png`: both sides' frames of the window (8-bit);
+//! - `rtl.exr`, `golden.exr`: the same, lossless f32 (`rtcosim diffmap`
+//!   reads them);
+//! - `diffmap/`: the difference maps of the two frames and the thesis'
+//!   table ([`golden::diffmap`]): all zero on a passing run;
 //! - `report.json`: everything the text report says, keyed (serde_json):
 //!   the run, cycles per pixel (mean, min, max, histogram), events, the
 //!   ULP histogram, the divergences and the first one with its Verilog and
@@ -11,6 +15,7 @@
 //!   `results.xml`), failing with the first divergence.
 
 use crate::cosim::CosimReport;
+use golden::diffmap::{DiffMap, THESIS_THRESHOLDS};
 use golden::scene::Scene;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -26,6 +31,8 @@ pub enum ArtefactError {
     },
     #[error(transparent)]
     Frame(#[from] golden::frame::FrameError),
+    #[error(transparent)]
+    DiffMap(#[from] golden::diffmap::DiffMapError),
     #[error("{}: {message}", path.display())]
     Junit { path: PathBuf, message: String },
 }
@@ -66,7 +73,23 @@ pub fn write(dir: &Path, run: &Run, report: &CosimReport) -> Result<Vec<PathBuf>
             let png = dir.join(format!("{name}.png"));
             frame.save_png(&png)?;
             written.push(png);
+            let exr = dir.join(format!("{name}.exr"));
+            frame.save_exr(&exr)?;
+            written.push(exr);
         }
+        let maps = dir.join("diffmap");
+        std::fs::create_dir_all(&maps).map_err(|source| ArtefactError::Io {
+            path: maps.clone(),
+            source,
+        })?;
+        DiffMap::new(&frames.rtl, &frames.golden)?.write(
+            &maps,
+            "RTL",
+            "golden",
+            &THESIS_THRESHOLDS,
+            1,
+        )?;
+        written.push(maps);
     }
     let json_path = dir.join("report.json");
     let text = serde_json::to_string_pretty(&to_json(run, report)).expect("JSON of plain values");

@@ -232,9 +232,17 @@ fn out_writes_frames_json_markdown_and_junit_that_say_the_same() {
     // A clean run.
     let (out, clean) = run("clean", &[]);
     assert_eq!(out.status.code(), Some(0), "{}", both(&out));
-    for f in ["rtl.png", "golden.png"] {
+    for f in ["rtl.png", "golden.png", "diffmap/mask-0.5.png"] {
         assert_eq!(png_size(&clean.join(f)), (20, 10), "{f}: the window's size");
     }
+    // The float frames are the colours bit for bit, and agree: all-zero maps.
+    let rtl = golden::frame::Frame::load_exr(&clean.join("rtl.exr")).expect("rtl.exr");
+    let golden = golden::frame::Frame::load_exr(&clean.join("golden.exr")).expect("golden.exr");
+    assert_eq!(rtl, golden);
+    let table = std::fs::read_to_string(clean.join("diffmap/table.json")).expect("table.json");
+    let table: serde_json::Value = serde_json::from_str(&table).expect("JSON");
+    assert_eq!(table["differing"], 0, "{table}");
+    assert_eq!(table["channels"], 600, "{table}");
     let json: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(clean.join("report.json")).expect("report.json"),
     )

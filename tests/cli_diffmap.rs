@@ -294,3 +294,26 @@ fn a_reference_file_differs_from_the_in_process_reference_by_its_rounding_only()
     // Rounded to f32 first, the reference is 0 ULP from its file.
     assert_eq!(table["max_ulps"], 0, "{table}");
 }
+
+#[test]
+fn render_exr_writes_the_micro_models_frame_bit_for_bit() {
+    let dir = scratch("render-exr");
+    let (png, exr) = (dir.join("m.png"), dir.join("m.exr"));
+    let out = rtcosim(&[
+        "render",
+        "--model",
+        "micro",
+        "--size",
+        "16x12",
+        "--out",
+        s(&png),
+        "--exr",
+        s(&exr),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let scene = golden::scene::Scene::reference()
+        .resized(16, 12, "16x12")
+        .expect("a smaller image of a valid scene");
+    let (expected, _) = golden::micro::render(&scene, &|_| {});
+    assert_eq!(Frame::load_exr(&exr).expect("m.exr"), expected);
+}

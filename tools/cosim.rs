@@ -53,8 +53,9 @@ pub struct CosimArgs {
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
     /// Write the run's files into DIR (created if missing): both sides'
-    /// frames (rtl.png, golden.png), report.json, report.md and junit.xml
-    /// (one test case for the scene and method pair).
+    /// frames (rtl.png, golden.png, and lossless rtl.exr, golden.exr), their
+    /// difference maps (diffmap/), report.json, report.md and junit.xml (one
+    /// test case for the scene and method pair).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// The pixels to trace: X0,Y0,X1,Y1 or X,Y (default: --window).

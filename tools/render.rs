@@ -26,6 +26,11 @@ pub struct RenderArgs {
     /// Where to write the PNG.
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
+    /// Also write the frame losslessly as f32 OpenEXR, for `rtcosim diffmap`
+    /// (the f64 reference is rounded to the nearest f32: at most 2^-25 on a
+    /// channel <= 1; diffmap's `reference` side renders it exactly).
+    #[arg(long, value_name = "FILE")]
+    pub exr: Option<PathBuf>,
     #[command(flatten)]
     pub threads: ThreadsArgs,
     /// Also write the micro-op model's trace (every register-file write, in
@@ -83,6 +88,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let scene = args.scene.load()?;
     // Fail before a long render, not after it.
     check_parent_dir("--out", &args.out)?;
+    if let Some(exr) = &args.exr {
+        check_parent_dir("--exr", exr)?;
+    }
     let trace = match (&args.trace, args.trace_window) {
         (Some(path), Some(window)) => {
             if args.model != Model::Micro {
@@ -132,6 +140,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
         print_cycles(&mut out, &stats)?;
     }
     writeln!(out, "wrote {}", args.out.display())?;
+    if let Some(exr) = &args.exr {
+        frame.save_exr(exr)?;
+        writeln!(out, "wrote {}", exr.display())?;
+    }
     if let Some((path, window)) = trace {
         write_trace(&mut out, path, window, |progress| {
             rtcosim::trace_files::write_golden(
