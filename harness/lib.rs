@@ -15,6 +15,9 @@
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
 //! - [`trace_files`]: trace-file headers and writers for a window.
+//! - [`wave`]: the waveform window: one pixel re-run on the model verilated
+//!   with `--trace-fst`, K cycles either side of a divergence, as an FST file
+//!   with a GTKWave save file and state-name filter.
 
 mod bridge;
 pub mod compare;
@@ -26,6 +29,12 @@ pub mod operands;
 pub mod pixel_proc;
 pub mod scenes;
 pub mod trace_files;
+pub mod wave;
+
+// zlib and lz4, for Verilator's FST writer in the C++ (build.rs): named here
+// so that rustc links the static libraries libz-sys and lz4-sys build.
+use libz_sys as _;
+use lz4_sys as _;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

@@ -41,6 +41,8 @@ pub struct CosimArgs {
     /// the window leaves the run passing, with a warning.
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
     pub fault: Option<Fault>,
+    #[command(flatten)]
+    pub wave: crate::wave::WaveArgs,
 }
 
 /// Returns whether the RTL agreed with golden everywhere.
@@ -105,6 +107,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
     })?;
     print_report(&mut out, &report, seconds, threads)?;
+    args.wave.write(&mut out, &scene, &report, None)?;
     Ok(report.passed())
 }
 

@@ -11,6 +11,7 @@ mod fuzz;
 mod render;
 mod trace_dump;
 mod ui;
+mod wave;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
