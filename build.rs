@@ -15,14 +15,21 @@
 //! method), and the pixel processor (`rtl/pp` + `rtl/fp`, `-DPP_TRACE` for
 //! its trace and fault ports) once per (recip, sqrt) method pair, as
 //! `Vpixel_processor_<recip>_<sqrt>`; `$OUT_DIR/rtcosim_pp_models.h` lists
-//! those for the C++ driver. Every model gets the same Verilator flags.
+//! those for the C++ driver. Every model gets the same Verilator flags. Each
+//! pair is verilated once more with `--trace-fst --trace-depth 3`, as
+//! `Vpixel_processor_wave_<recip>_<sqrt>` (listed in
+//! `rtcosim_pp_wave_models.h`), for the waveform window of `harness::wave`,
+//! and compiled at -O0; Verilator's FST writer gets zlib and lz4 from the
+//! libz-sys and lz4-sys crates, built from source.
 //!
 //! Cost (Verilator 5.006, g++ -O2, CPU seconds): each pixel processor
 //! variant about 3 s of Verilator and 17-18 s of g++, 70 s of g++ for the
 //! four pairs, against 43 s for all seven float-unit models (recip and sqrt
 //! 8-9 s each, the others 3 s) and 4 s for the runtime. All four pairs are
 //! built because only the mixed ones catch RECIP_METHOD and SQRT_METHOD
-//! swapped on the way down.
+//! swapped on the way down. Each traced variant adds about 3 s of Verilator
+//! and 16.5 s of g++ -O0 (20 s at full trace depth; 192 s at -O2), about
+//! 80 CPU seconds for the four.
 
 use std::collections::BTreeSet;
 use std::env;
@@ -39,7 +46,13 @@ struct Model<'a> {
     defines: Vec<&'static str>,
     includes: Vec<PathBuf>,
     sources: &'a [PathBuf],
+    /// Verilated with `--trace-fst` (the waveform models, [`WAVE_PREFIX`]).
+    trace: bool,
 }
+
+/// The pixel processor variants verilated with `--trace-fst` for
+/// `harness::wave` are `<WAVE_PREFIX>_<recip>_<sqrt>`.
+const WAVE_PREFIX: &str = "Vpixel_processor_wave";
 
 struct Verilator {
     bin: PathBuf,
@@ -108,6 +121,7 @@ fn run() -> Result<(), String> {
         defines: vec![],
         includes: vec![fp_dir.clone()],
         sources: &fp_sources,
+        trace: false,
     };
     let mut models = vec![
         unit("fp_add", "Vfp_add".into(), vec![]),
@@ -121,22 +135,48 @@ fn run() -> Result<(), String> {
     }
     // The pixel processor, with its trace and fault ports, once per
     // (recip, sqrt) method pair: every combination.
+    // The same again with --trace-fst, for the waveform window
+    // (harness::wave): the same RTL and flags, so a divergence re-runs on
+    // the variant it happened on; compiled at -O0 (see below).
     let mut pp_variants = Vec::new();
+    let mut wave_variants = Vec::new();
     for (recip, recip_code) in &methods {
         for (sqrt, sqrt_code) in &methods {
-            let prefix = format!("Vpixel_processor_{recip}_{sqrt}");
-            pp_variants.push((prefix.clone(), *recip_code, *sqrt_code));
-            models.push(Model {
-                prefix,
-                top: "pixel_processor",
-                params: vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)],
-                defines: vec!["PP_TRACE"],
-                includes: vec![pp_dir.clone(), fp_dir.clone()],
-                sources: &pp_sources,
-            });
+            for trace in [false, true] {
+                let base = if trace {
+                    WAVE_PREFIX
+                } else {
+                    "Vpixel_processor"
+                };
+                let prefix = format!("{base}_{recip}_{sqrt}");
+                let variants = if trace {
+                    &mut wave_variants
+                } else {
+                    &mut pp_variants
+                };
+                variants.push((prefix.clone(), *recip_code, *sqrt_code));
+                models.push(Model {
+                    prefix,
+                    top: "pixel_processor",
+                    params: vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)],
+                    defines: vec!["PP_TRACE"],
+                    includes: vec![pp_dir.clone(), fp_dir.clone()],
+                    sources: &pp_sources,
+                    trace,
+                });
+            }
         }
     }
-    write_pp_models(&out.join("rtcosim_pp_models.h"), &pp_variants)?;
+    write_pp_models(
+        &out.join("rtcosim_pp_models.h"),
+        "RTCOSIM_PP_MODELS",
+        &pp_variants,
+    )?;
+    write_pp_models(
+        &out.join("rtcosim_pp_wave_models.h"),
+        "RTCOSIM_PP_WAVE_MODELS",
+        &wave_variants,
+    )?;
 
     let results: Vec<Result<Vec<PathBuf>, String>> = std::thread::scope(|s| {
         let handles: Vec<_> = models
@@ -153,11 +193,14 @@ fn run() -> Result<(), String> {
     });
 
     let mut model_files = Vec::new();
+    let mut wave_files = Vec::new();
     let mut globals = BTreeSet::new();
-    for files in results {
+    for (files, model) in results.into_iter().zip(&models) {
         for f in files? {
             if f.starts_with(&verilator.root) {
                 globals.insert(f);
+            } else if model.trace {
+                wave_files.push(f);
             } else {
                 model_files.push(f);
             }
@@ -165,6 +208,17 @@ fn run() -> Result<(), String> {
     }
 
     let include = verilator.root.join("include");
+    // zlib and lz4 for Verilator's FST writer (verilated_fst_c.cpp: 5.006's
+    // includes gtkwave/fstapi.c, which needs zlib.h; 5.048's fstcpp writer
+    // needs zlib.h and lz4.h), from the crates libz-sys (feature `static`)
+    // and lz4-sys, which build them from source with cc: no system library.
+    // Their build scripts export their include directories as DEP_Z_INCLUDE
+    // and DEP_LZ4_INCLUDE, and cargo links the libraries.
+    let fst_includes: Vec<PathBuf> = ["DEP_Z_INCLUDE", "DEP_LZ4_INCLUDE"]
+        .iter()
+        .filter_map(|var| env::var(var).ok())
+        .flat_map(|v| v.split(',').map(PathBuf::from).collect::<Vec<_>>())
+        .collect();
     let model_dirs: Vec<PathBuf> = models.iter().map(|m| out.join(&m.prefix)).collect();
     let common = |build: &mut cc::Build| {
         build
@@ -178,6 +232,7 @@ fn run() -> Result<(), String> {
             .includes(&model_dirs)
             .include(&out)
             .include(manifest.join("harness/cpp"))
+            .includes(&fst_includes)
             // Verilated models are hopeless unoptimized; debug builds want them fast too.
             .opt_level(2)
             .debug(false)
@@ -195,6 +250,17 @@ fn run() -> Result<(), String> {
         .file("harness/cpp/fp_units.cpp")
         .file("harness/cpp/pixel_proc.cpp")
         .compile("rtcosim_bridge");
+
+    // The waveform models: one pixel per run, so -O0, which compiles the
+    // generated trace code (2.3 MB of C++ per variant) in a ninth of the
+    // CPU time of -O2. Linked before the runtime they call.
+    let mut wave = cc::Build::new();
+    common(&mut wave);
+    wave.files(&wave_files)
+        .opt_level(0)
+        .warnings(false)
+        .cargo_warnings(false)
+        .compile("rtcosim_wave_models");
 
     // Verilator's generated code and runtime, plus the fatal-error hooks the
     // runtime calls: not ours to warn about.
@@ -556,14 +622,18 @@ fn verilog_sources(dirs: &[&Path]) -> Result<Vec<PathBuf>, String> {
 /// processor variant, as `RTCOSIM_PP_MODELS(X)` calling
 /// `X(class, recip code, sqrt code)`, so the C++ never hard-codes which
 /// method pairs were built.
-fn write_pp_models(path: &Path, variants: &[(String, u32, u32)]) -> Result<(), String> {
+fn write_pp_models(
+    path: &Path,
+    macro_name: &str,
+    variants: &[(String, u32, u32)],
+) -> Result<(), String> {
     let mut text = String::from(
         "// Generated by build.rs: the verilated pixel processor variants.\n#pragma once\n",
     );
     for (prefix, _, _) in variants {
         text += &format!("#include \"{prefix}.h\"\n");
     }
-    text += "#define RTCOSIM_PP_MODELS(X)";
+    text += &format!("#define {macro_name}(X)");
     for (prefix, recip, sqrt) in variants {
         text += &format!(" \\\n    X({prefix}, {recip}, {sqrt})");
     }
@@ -601,6 +671,17 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<PathBuf>, String
     }
     for define in &m.defines {
         cmd.arg(format!("-D{define}"));
+    }
+    if m.trace {
+        // Three levels: pixel_processor, u_ctrl and u_core with everything
+        // in them, and the ports of the units below (the ALU, the register
+        // file, the float units). All levels would triple the generated trace
+        // code (2.3 MB of C++ instead of 0.77 MB).
+        cmd.args(["--trace-fst", "--trace-depth", "3"]);
+        // Verilator 5.048 keeps functions' locals as signals when tracing
+        // and then warns that several calls drive them (MULTIDRIVEN); the
+        // untraced models of the same RTL lint clean (tests/rtl_lint.rs).
+        cmd.arg("-Wno-MULTIDRIVEN");
     }
     for (name, value) in &m.params {
         cmd.arg(format!("-G{name}={value}"));

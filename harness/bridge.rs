@@ -96,6 +96,11 @@ pub(crate) mod ffi {
         /// (`golden::fp::Method::code`). Fails if that pair was not built.
         fn new_pixel_proc(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<PixelProc>>;
 
+        /// The same variant verilated with `--trace-fst`, for waveforms
+        /// (`harness::wave`); fails if that pair was not built.
+        fn new_pixel_proc_wave(recip_method: u32, sqrt_method: u32)
+            -> Result<UniquePtr<PixelProc>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless ready is then high.
         fn reset(self: Pin<&mut PixelProc>) -> Result<()>;
@@ -126,5 +131,22 @@ pub(crate) mod ffi {
             events: &mut Vec<PpEvent>,
             timeout_cycles: u64,
         ) -> Result<PpRun>;
+
+        /// On a `new_pixel_proc_wave` model (others fail), once: dumps the
+        /// cycles `first_cycle..=last_cycle` of the pixels run next into the
+        /// FST file `path` (see `harness/cpp/pp_wave.h` for the time axis).
+        fn open_wave(
+            self: Pin<&mut PixelProc>,
+            path: &str,
+            first_cycle: u64,
+            last_cycle: u64,
+        ) -> Result<()>;
+
+        /// Finishes and closes the FST file, if one is open.
+        fn close_wave(self: Pin<&mut PixelProc>) -> Result<()>;
+
+        /// Appends the cycle of each trace event of the last pixel (on a
+        /// `new_pixel_proc_wave` model; nothing on the others).
+        fn event_cycles(self: &PixelProc, out: &mut Vec<u64>);
     }
 }

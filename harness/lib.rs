@@ -18,6 +18,9 @@
 //!   golden model and of the RTL.
 //! - [`trace_diff`]: two trace files through the comparison engine.
 //! - [`rtl_source`]: the Verilog line that decodes each controller state.
+//! - [`wave`]: the waveform window: one pixel re-run on the model verilated
+//!   with `--trace-fst`, K cycles either side of a divergence, as an FST file
+//!   with a GTKWave save file and state-name filter.
 
 pub mod artefacts;
 mod bridge;
@@ -32,6 +35,12 @@ pub mod rtl_source;
 pub mod scenes;
 pub mod trace_diff;
 pub mod trace_files;
+pub mod wave;
+
+// zlib and lz4, for Verilator's FST writer in the C++ (build.rs): named here
+// so that rustc links the static libraries libz-sys and lz4-sys build.
+use libz_sys as _;
+use lz4_sys as _;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

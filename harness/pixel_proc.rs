@@ -154,7 +154,25 @@ impl PixelProcessor {
     /// Builds and resets the variant verilated with `RECIP_METHOD = recip`
     /// and `SQRT_METHOD = sqrt`.
     pub fn new(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
-        let inner = ffi::new_pixel_proc(recip.code(), sqrt.code()).map_err(|e| PpError::Build {
+        Self::build(recip, sqrt, ffi::new_pixel_proc)
+    }
+
+    /// The same variant verilated with `--trace-fst`, for [`crate::wave`].
+    pub(crate) fn new_wave(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
+        Self::build(recip, sqrt, ffi::new_pixel_proc_wave)
+    }
+
+    /// The model, for [`crate::wave`]'s calls to its waveform port.
+    pub(crate) fn model(&mut self) -> std::pin::Pin<&mut ffi::PixelProc> {
+        self.inner.pin_mut()
+    }
+
+    fn build(
+        recip: Method,
+        sqrt: Method,
+        new: fn(u32, u32) -> Result<UniquePtr<ffi::PixelProc>, cxx::Exception>,
+    ) -> Result<PixelProcessor, PpError> {
+        let inner = new(recip.code(), sqrt.code()).map_err(|e| PpError::Build {
             recip,
             sqrt,
             message: e.what().to_string(),

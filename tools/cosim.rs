@@ -55,12 +55,15 @@ pub struct CosimArgs {
     /// Write the run's files into DIR (created if missing): both sides'
     /// frames (rtl.png, golden.png, and lossless rtl.exr, golden.exr), their
     /// difference maps (diffmap/), report.json, report.md and junit.xml (one
-    /// test case for the scene and method pair).
+    /// test case for the scene and method pair), and on a divergence the
+    /// waveform window (wave.fst, --wave K cycles either side, default 20).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// The pixels to trace: X0,Y0,X1,Y1 or X,Y (default: --window).
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window, requires = "trace")]
     pub trace_window: Option<Window>,
+    #[command(flatten)]
+    pub wave: crate::wave::WaveArgs,
 }
 
 /// Returns whether the RTL agreed with golden everywhere.
@@ -161,6 +164,8 @@ pub fn run(args: CosimArgs) -> Result<bool> {
             )
         })?;
     }
+    args.wave
+        .write(&mut out, &scene, &report, args.out.as_deref())?;
     Ok(report.passed())
 }
 

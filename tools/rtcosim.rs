@@ -14,6 +14,7 @@ mod render;
 mod trace_diff;
 mod trace_dump;
 mod ui;
+mod wave;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -28,10 +28,19 @@ public:
     // to `events` when `trace` is set.
     virtual PpRun run_pixel(std::uint16_t px, std::uint16_t py, bool trace, rust::Vec<PpEvent>& events,
                             std::uint64_t timeout_cycles) = 0;
+    // Waveforms (pp_wave.h), only on the models new_pixel_proc_wave builds;
+    // the others throw. Dumps cycles [first, last] of the pixels run next
+    // into the FST file `path` (once per model); close_wave finishes it.
+    virtual void open_wave(rust::Str path, std::uint64_t first_cycle, std::uint64_t last_cycle) = 0;
+    virtual void close_wave() = 0;
+    // The cycle of each trace event of the last pixel, in order.
+    virtual void event_cycles(rust::Vec<std::uint64_t>& out) const = 0;
 };
 
 // Builds and resets the variant verilated with these method codes
 // (rtl/fp/fp_defs.vh); throws if that pair was not built.
 std::unique_ptr<PixelProc> new_pixel_proc(std::uint32_t recip_method, std::uint32_t sqrt_method);
+// The same variant verilated with --trace-fst (the waveform window).
+std::unique_ptr<PixelProc> new_pixel_proc_wave(std::uint32_t recip_method, std::uint32_t sqrt_method);
 
 }  // namespace rtcosim

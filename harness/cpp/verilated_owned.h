@@ -16,8 +16,10 @@ template <class M>
 struct Owned {
     std::unique_ptr<VerilatedContext> context{new VerilatedContext};
     std::unique_ptr<M> model;
-    Owned() {
+    // `trace_ever_on`: the model may be traced (verilated with --trace-fst).
+    explicit Owned(bool trace_ever_on = false) {
         context->fatalOnError(true);
+        if (trace_ever_on) context->traceEverOn(true);
         model.reset(new M(context.get(), "TOP"));
     }
     ~Owned() {

@@ -1,0 +1,454 @@
+//! The waveform window: one pixel re-run on the pixel processor verilated
+//! with `--trace-fst`, dumped to an FST file for K cycles either side of a
+//! divergence, with the files GTKWave needs to show the controller's state
+//! names (`rtcosim cosim --wave K`).
+//!
+//! [`write_window`] builds the traced twin of the variant the scene names
+//! (the same RTL and Verilator flags plus `--trace-fst`, one per method pair:
+//! `Vpixel_processor_wave_<recip>_<sqrt>`, see `build.rs`), resets it, loads
+//! the scene, sets the fault, and runs the pixel twice, each time on a fresh
+//! model: once to find the cycle of the divergent event, once with the FST
+//! open for the window. It writes three files side by side:
+//!
+//! - `wave.fst`: the window (every signal of the design);
+//! - `wave-states.txt`: a GTKWave translate filter file, `<hex value> <name>`
+//!   for every controller state of `rtl/pp/isa.vh`;
+//! - `wave.gtkw`: a GTKWave save file that shows the clock, the pixel
+//!   handshake, the controller state (`u_ctrl.st_q`, through the filter),
+//!   the opcode and stack pointer, the trace and fault ports and the colour,
+//!   with the primary marker on the divergence.
+//!
+//! Open them with `gtkwave wave.fst wave.gtkw`.
+//!
+//! # The time axis
+//!
+//! Cycle `c` of the pixel begins with its rising edge at `c` ns (1000 ps,
+//! the file's time unit is 1 ps) and is sampled (clk low, where the harness
+//! reads the outputs) at `c` ns + 500 ps. Cycle 0 is the idle cycle whose
+//! rising edge takes `start`; cycle 1 is the pixel's first counted cycle,
+//! as in [`crate::pixel_proc`] (a trace event of cycle `c` is written by the
+//! rising edge at `c + 1` ns). The window `first..=last` spans
+//! `first` ns to `last + 1` ns.
+
+use crate::compare::Divergence;
+use crate::pixel_proc::{Fault, PixelProcessor, PpError};
+use golden::micro::isa::{self, dim};
+use golden::pixel::PixelOutcome;
+use golden::scene::Scene;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The FST file's name when only a directory is given ([`write_window_in`]).
+pub const FST_NAME: &str = "wave.fst";
+
+/// Picoseconds per cycle in the FST file (`harness/cpp/pp_wave.h`).
+pub const PS_PER_CYCLE: u64 = 1000;
+
+/// The hierarchy of the pixel processor in the FST file.
+pub const TOP_SCOPE: &str = "TOP.pixel_processor";
+
+/// What [`write_window`] wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WaveWindow {
+    /// The pixel re-run.
+    pub x: u32,
+    pub y: u32,
+    /// The cycle of the divergence: the one in which the RTL's divergent
+    /// event was sampled (the rising edge at `divergence_cycle + 1` ns
+    /// writes it), or the pixel's last cycle.
+    pub divergence_cycle: u64,
+    /// Why that cycle ([`DivergenceAt`]).
+    pub at: DivergenceAt,
+    /// The first and last cycle dumped: `divergence_cycle` ± K, clamped to
+    /// the pixel (cycle 0, the start cycle, to its done cycle).
+    pub first_cycle: u64,
+    pub last_cycle: u64,
+    /// The pixel's outcome on the traced model (its `cycles` is the done
+    /// cycle).
+    pub outcome: PixelOutcome,
+    /// The files written.
+    pub fst: PathBuf,
+    pub filter: PathBuf,
+    pub gtkw: PathBuf,
+}
+
+/// How the divergence cycle was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DivergenceAt {
+    /// The cycle of the RTL's event with this sequence number, in this
+    /// controller state.
+    Event { seq: u32, state: u16 },
+    /// The RTL wrote fewer events than the sequence number (golden's event
+    /// has no counterpart): the pixel's last cycle.
+    MissingEvent { seq: u32, rtl_events: u64 },
+    /// No event named (a divergence of colour or cycle count): the pixel's
+    /// last cycle.
+    LastCycle,
+}
+
+impl WaveWindow {
+    /// The FST time (ps) at which cycle `c` begins (its rising edge).
+    pub fn cycle_start_ps(c: u64) -> u64 {
+        c * PS_PER_CYCLE
+    }
+
+    /// The FST time (ps) of cycle `c`'s sample point (falling edge).
+    pub fn cycle_sample_ps(c: u64) -> u64 {
+        c * PS_PER_CYCLE + PS_PER_CYCLE / 2
+    }
+
+    /// How to open the files, as a shell command.
+    pub fn open_command(&self) -> String {
+        format!(
+            "gtkwave {} {}",
+            shell_word(&self.fst),
+            shell_word(&self.gtkw)
+        )
+    }
+}
+
+fn shell_word(p: &Path) -> String {
+    let s = p.display().to_string();
+    if s.chars()
+        .all(|c| c.is_ascii_alphanumeric() || "/._-+,:@".contains(c))
+    {
+        s
+    } else {
+        format!("'{}'", s.replace('\'', r"'\''"))
+    }
+}
+
+/// Errors of the waveform window.
+#[derive(Debug, thiserror::Error)]
+pub enum WaveError {
+    /// The traced model could not be built or failed (a Verilator fatal
+    /// error inside it is one of these, never an abort).
+    #[error("waveform re-run: {0}")]
+    Rtl(#[from] PpError),
+    /// The FST writer failed.
+    #[error("waveform of pixel ({x}, {y}): {message}")]
+    Fst { x: u32, y: u32, message: String },
+    /// A file could not be written.
+    #[error("cannot write the waveform file {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The path names no file (a directory, or nothing).
+    #[error("the waveform path {} is not a file name (expected e.g. wave.fst)", path.display())]
+    NotAFile { path: PathBuf },
+}
+
+/// The files [`write_window`] writes for the FST file `fst`: the filter
+/// file (`<stem>-states.txt`) and the save file (`<stem>.gtkw`).
+pub fn companion_paths(fst: &Path) -> (PathBuf, PathBuf) {
+    let stem = fst
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "wave".into());
+    (
+        fst.with_file_name(format!("{stem}-states.txt")),
+        fst.with_file_name(format!("{stem}.gtkw")),
+    )
+}
+
+/// [`write_window`] for a run's first divergence (`divergence_seq` from
+/// [`Divergence::seq`]).
+pub fn write_divergence(
+    scene: &Scene,
+    fault: Option<Fault>,
+    d: &Divergence,
+    k: u64,
+    path: &Path,
+) -> Result<WaveWindow, WaveError> {
+    write_window(scene, fault, d.x, d.y, d.seq(), k, path)
+}
+
+/// [`write_divergence`] into the directory `dir` (a run's output
+/// directory), as `dir/`[`FST_NAME`] and its companions.
+pub fn write_window_in(
+    dir: &Path,
+    scene: &Scene,
+    fault: Option<Fault>,
+    d: &Divergence,
+    k: u64,
+) -> Result<WaveWindow, WaveError> {
+    write_divergence(scene, fault, d, k, &dir.join(FST_NAME))
+}
+
+/// Re-runs pixel (x, y) of `scene` (with `fault` injected, as the run that
+/// diverged had it) on the traced pixel processor of the scene's method
+/// pair, and writes the cycles `d - k ..= d + k` around the divergence cycle
+/// `d` (clamped to the pixel) to the FST file `path`, with the translate
+/// filter and the GTKWave save file beside it ([`companion_paths`]).
+///
+/// `divergence_seq` is the sequence number of the divergent event
+/// ([`Divergence::seq`]): `d` is the cycle in which the RTL's event with that
+/// number was sampled, or the pixel's last cycle when the RTL wrote fewer
+/// events or no event is named (a divergence of colour or cycle count).
+pub fn write_window(
+    scene: &Scene,
+    fault: Option<Fault>,
+    x: u32,
+    y: u32,
+    divergence_seq: Option<u32>,
+    k: u64,
+    path: &Path,
+) -> Result<WaveWindow, WaveError> {
+    if path.file_name().is_none() || path.is_dir() {
+        return Err(WaveError::NotAFile {
+            path: path.to_path_buf(),
+        });
+    }
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| WaveError::Io { path, source }
+    };
+    // Fail on a bad path now, with the OS's reason, rather than after the
+    // simulation (Verilator's FST writer only says that it did not open).
+    std::fs::File::create(path).map_err(io(path))?;
+    let fst = std::path::absolute(path).map_err(io(path))?;
+    let (filter, gtkw) = companion_paths(&fst);
+
+    // Pass 1: the cycle of every RTL event of the pixel.
+    let mut rtl = traced(scene, fault)?;
+    let outcome = rtl.run_pixel(x, y, None)?;
+    let mut cycles = Vec::new();
+    rtl.model().event_cycles(&mut cycles);
+    drop(rtl);
+    let last_cycle_of_pixel = outcome.cycles;
+    let (divergence_cycle, at) = match divergence_seq {
+        Some(seq) => match cycles.get(seq as usize) {
+            Some(&c) => (c, DivergenceAt::Event { seq, state: 0 }),
+            None => (
+                last_cycle_of_pixel,
+                DivergenceAt::MissingEvent {
+                    seq,
+                    rtl_events: outcome.events,
+                },
+            ),
+        },
+        None => (last_cycle_of_pixel, DivergenceAt::LastCycle),
+    };
+    let first_cycle = divergence_cycle.saturating_sub(k);
+    let last_cycle = divergence_cycle.saturating_add(k).min(last_cycle_of_pixel);
+
+    // Pass 2: the same pixel from reset, with the FST open for the window.
+    let mut rtl = traced(scene, fault)?;
+    let fst_error = |e: cxx::Exception| WaveError::Fst {
+        x,
+        y,
+        message: e.what().to_string(),
+    };
+    rtl.model()
+        .open_wave(&fst.to_string_lossy(), first_cycle, last_cycle)
+        .map_err(fst_error)?;
+    let mut events = Vec::new();
+    let again = rtl.run_pixel(x, y, Some(&mut events));
+    rtl.model().close_wave().map_err(fst_error)?;
+    let again = again?;
+    if again != outcome {
+        return Err(WaveError::Fst {
+            x,
+            y,
+            message: format!(
+                "the re-run differs from the first run ({again:?} vs {outcome:?}): \
+                 the RTL does not repeat itself from reset"
+            ),
+        });
+    }
+    let at = match at {
+        DivergenceAt::Event { seq, .. } => DivergenceAt::Event {
+            seq,
+            state: events[seq as usize].state,
+        },
+        other => other,
+    };
+
+    let window = WaveWindow {
+        x,
+        y,
+        divergence_cycle,
+        at,
+        first_cycle,
+        last_cycle,
+        outcome,
+        fst,
+        filter,
+        gtkw,
+    };
+    std::fs::write(&window.filter, state_filter()).map_err(io(&window.filter))?;
+    std::fs::write(&window.gtkw, save_file(&window)).map_err(io(&window.gtkw))?;
+    Ok(window)
+}
+
+/// A fresh traced model of the scene's method pair with the scene loaded.
+fn traced(scene: &Scene, fault: Option<Fault>) -> Result<PixelProcessor, PpError> {
+    let mut rtl = PixelProcessor::new_wave(scene.render.recip, scene.render.sqrt)?;
+    rtl.set_fault(fault);
+    rtl.load_scene(scene)?;
+    Ok(rtl)
+}
+
+/// Hex digits GTKWave shows for a vector of `bits` bits.
+fn hex_digits(bits: usize) -> usize {
+    bits.div_ceil(4)
+}
+
+/// A GTKWave translate filter file naming every controller state: each
+/// value twice, as GTKWave shows it in hex with and without its base symbol
+/// (`$`, View > Show Base Symbols, on by default).
+pub fn state_filter() -> String {
+    let mut text = String::from(
+        "# GTKWave translate filter: controller states of rtl/pp/isa.vh (ISA_ST_*),\n\
+         # for u_ctrl.st_q and trace_state shown in hex (harness/wave.rs)\n",
+    );
+    let digits = hex_digits(dim::ST_BITS);
+    for &(name, code) in isa::STATES {
+        let _ = writeln!(text, "{code:0digits$X} {name}");
+        let _ = writeln!(text, "${code:0digits$X} {name}");
+    }
+    text
+}
+
+/// One signal of the save file: its flags and its name in GTKWave.
+struct Trace {
+    flags: u32,
+    name: String,
+    filter: bool,
+}
+
+// GTKWave's trace flags (analyzer.h): hex, decimal, binary, right-justified,
+// translated by a filter file.
+const TR_HEX: u32 = 0x2;
+const TR_DEC: u32 = 0x4;
+const TR_BIN: u32 = 0x8;
+const TR_RJUSTIFY: u32 = 0x20;
+const TR_FTRANSLATED: u32 = 0x2000;
+
+/// The signals the save file shows, grouped under comments (`None`).
+fn traces() -> Vec<Option<(&'static str, Trace)>> {
+    let sig = |name: &str, bits: usize, flags: u32| Trace {
+        flags: flags | TR_RJUSTIFY,
+        name: if bits == 1 {
+            format!("{TOP_SCOPE}.{name}")
+        } else {
+            format!("{TOP_SCOPE}.{name}[{}:0]", bits - 1)
+        },
+        filter: false,
+    };
+    let state = |name: &str| Trace {
+        flags: TR_HEX | TR_RJUSTIFY | TR_FTRANSLATED,
+        filter: true,
+        ..sig(name, dim::ST_BITS, 0)
+    };
+    let sp_bits = (isa::dim::STK_COUNT as u32)
+        .next_power_of_two()
+        .trailing_zeros() as usize;
+    let group = |title: &'static str, traces: Vec<Trace>| {
+        std::iter::once(None).chain(traces.into_iter().map(move |t| Some((title, t))))
+    };
+    group(
+        "pixel",
+        vec![
+            sig("clk", 1, TR_BIN),
+            sig("start", 1, TR_BIN),
+            sig("ready", 1, TR_BIN),
+            sig("done", 1, TR_BIN),
+            sig("px", dim::COORD_BITS, TR_DEC),
+            sig("py", dim::COORD_BITS, TR_DEC),
+        ],
+    )
+    .chain(group(
+        "controller",
+        vec![
+            state("u_ctrl.st_q"),
+            sig("op", dim::OP_BITS, TR_HEX),
+            sig("u_ctrl.sp_q", sp_bits, TR_DEC),
+        ],
+    ))
+    .chain(group(
+        "trace port",
+        vec![
+            sig("trace_valid", 1, TR_BIN),
+            state("trace_state"),
+            sig("trace_dst", dim::REG_BITS, TR_HEX),
+            sig("trace_lanes", dim::LANES, TR_BIN),
+            sig("trace_value", 32 * dim::LANES, TR_HEX),
+        ],
+    ))
+    .chain(group(
+        "fault port, colour",
+        vec![
+            state("fault_state"),
+            sig("fault_xor", 32, TR_HEX),
+            sig("rgb", 32 * dim::LANES, TR_HEX),
+        ],
+    ))
+    .collect()
+}
+
+/// The names of the signals the save file shows, as GTKWave names them
+/// (`TOP.pixel_processor.u_ctrl.st_q[8:0]`), and whether each goes through
+/// the state filter.
+pub fn shown_signals() -> Vec<(String, bool)> {
+    traces()
+        .into_iter()
+        .flatten()
+        .map(|(_, t)| (t.name, t.filter))
+        .collect()
+}
+
+/// The GTKWave save file (`.gtkw`) of a window: the dump and save file
+/// (absolute paths; GTKWave adjusts them if the three files move
+/// together), the marker on the divergence's sample point, the zoom to the
+/// window, and the signals with their formats.
+fn save_file(w: &WaveWindow) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "[*] rtcosim cosim --wave (harness/wave.rs): pixel ({}, {}), cycles {}..={}, \
+         divergence in cycle {}; cycle c begins at c ns",
+        w.x, w.y, w.first_cycle, w.last_cycle, w.divergence_cycle
+    );
+    let _ = writeln!(s, "[dumpfile] \"{}\"", w.fst.display());
+    let _ = writeln!(s, "[savefile] \"{}\"", w.gtkw.display());
+    let start = WaveWindow::cycle_start_ps(w.first_cycle);
+    let span = WaveWindow::cycle_start_ps(w.last_cycle + 1) - start;
+    let _ = writeln!(s, "[timestart] {start}");
+    let _ = writeln!(s, "[size] 1400 700");
+    let _ = writeln!(s, "[signals_width] 300");
+    // Zoom: GTKWave shows 2^-zoom time units per pixel; about 1000 pixels.
+    let zoom = -((span as f64 / 1000.0).max(1.0)).log2();
+    let _ = writeln!(
+        s,
+        "*{zoom:.6} {}",
+        WaveWindow::cycle_sample_ps(w.divergence_cycle)
+    );
+    let mut flags = None;
+    let mut filter_declared = false;
+    let mut title = "";
+    for entry in traces() {
+        let Some((group, t)) = entry else { continue };
+        if group != title {
+            title = group;
+            // A blank trace with a comment: the group's title.
+            let _ = writeln!(s, "@{:x}", 0x200u32);
+            let _ = writeln!(s, "-{title}");
+            flags = Some(0x200);
+        }
+        if flags != Some(t.flags) {
+            let _ = writeln!(s, "@{:x}", t.flags);
+            flags = Some(t.flags);
+        }
+        if t.filter {
+            // Filter file 1 for this and every later filtered trace.
+            let _ = writeln!(s, "^1 {}", w.filter.display());
+            filter_declared = true;
+        }
+        let _ = writeln!(s, "{}", t.name);
+    }
+    debug_assert!(filter_declared);
+    s
+}
