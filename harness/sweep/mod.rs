@@ -150,7 +150,7 @@ pub struct Grid {
 
 impl Grid {
     /// Both methods of each unit, every depth 1..=8, each speed-up on and
-    /// off (8 combinations): 512 configurations.
+    /// off (8 combinations): 256 configurations.
     pub fn full() -> Grid {
         let both = vec![Method::Exact, Method::Fast];
         Grid {
