@@ -133,6 +133,13 @@ pub enum CosimError {
     Window(#[from] WindowError),
     #[error(transparent)]
     Rtl(#[from] PpError),
+    #[error("pixel ({x}, {y}) lies outside the {width}x{height} image")]
+    Pixel {
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+    },
 }
 
 /// A worker's verilated model with the scene loaded, and its event buffer.
@@ -293,3 +300,60 @@ pub fn run(
     }
     Ok(report(scene, window, options, compare, colours))
 }
+
+/// Co-simulates a list of pixels of `scene` (any order, any subset of the
+/// image; the report counts them in the order given), chunks in parallel on
+/// the current rayon pool with the same workers and comparison as [`run`]:
+/// for checking a sample of pixels rather than a window. `progress` is
+/// called with the number of pixels finished, once per chunk.
+pub fn run_pixels(
+    scene: &Scene,
+    pixels: &[(u32, u32)],
+    options: &CosimOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<CompareReport, CosimError> {
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    if let Some(&(x, y)) = pixels.iter().find(|&&(x, y)| x >= width || y >= height) {
+        return Err(CosimError::Pixel {
+            x,
+            y,
+            width,
+            height,
+        });
+    }
+    let golden = Processor::new(scene);
+    let empty = || CompareReport::new(Labels::rtl_golden());
+    let chunks: Vec<Result<CompareReport, PpError>> = pixels
+        .par_chunks(PIXEL_CHUNK)
+        .map_init(
+            || None::<Worker>,
+            |worker, chunk| {
+                let mut report = empty();
+                let w = match worker {
+                    Some(w) => w,
+                    None => worker.insert(Worker::new(scene, options)?),
+                };
+                for &(x, y) in chunk {
+                    match compare_one(&mut w.rtl, &mut w.events, &golden, x, y) {
+                        Ok(v) => report.add(&v),
+                        Err(e) => {
+                            // A model that failed mid-pixel is not used again.
+                            *worker = None;
+                            return Err(e);
+                        }
+                    }
+                }
+                progress(chunk.len() as u64);
+                Ok(report)
+            },
+        )
+        .collect();
+    let mut compare = empty();
+    for chunk in chunks {
+        compare.merge(chunk?);
+    }
+    Ok(compare)
+}
+
+/// Pixels a worker of [`run_pixels`] takes at a time.
+const PIXEL_CHUNK: usize = 64;

@@ -14,6 +14,7 @@
 //! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
+//! - [`sweep`]: speed against accuracy over a grid of configurations.
 //! - [`trace_files`]: trace-file headers and writers for a window, of the
 //!   golden model and of the RTL.
 //! - [`trace_diff`]: two trace files through the comparison engine.
@@ -33,6 +34,7 @@ pub mod operands;
 pub mod pixel_proc;
 pub mod rtl_source;
 pub mod scenes;
+pub mod sweep;
 pub mod trace_diff;
 pub mod trace_files;
 pub mod wave;

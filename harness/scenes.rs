@@ -2,7 +2,7 @@
 //! overrides every command takes (image size, float methods).
 
 use golden::fp::Method;
-use golden::scene::{Scene, SceneError};
+use golden::scene::{RenderSettings, Scene, SceneError};
 use std::path::Path;
 
 /// Why a named scene cannot be had.
@@ -36,6 +36,16 @@ pub fn with_methods(
     let mut render = scene.render;
     render.recip = recip;
     render.sqrt = sqrt;
+    with_render(scene, render, origin)
+}
+
+/// `scene` with other render settings, validated again (a speed-up whose
+/// precondition the scene breaks is refused; `origin` names the request).
+pub fn with_render(
+    scene: &Scene,
+    render: RenderSettings,
+    origin: &str,
+) -> Result<Scene, SceneError> {
     Scene::new(
         origin,
         scene.camera.clone(),

@@ -11,6 +11,7 @@ mod exit;
 mod fp_check;
 mod fuzz;
 mod render;
+mod sweep;
 mod trace_diff;
 mod trace_dump;
 mod ui;
@@ -52,6 +53,10 @@ enum Command {
     /// Render a scene to a PNG with a golden model (and, with --trace, write
     /// the micro-op model's trace of a window of pixels).
     Render(render::RenderArgs),
+    /// Speed against accuracy: every configuration (methods, stack depth,
+    /// speed-ups) of scenes, the Pareto front confirmed on the RTL, CSV,
+    /// JSON and a chart. Exits 0 when the RTL confirmed every front point.
+    Sweep(sweep::SweepArgs),
     /// Print a trace file (rtcosim render --trace, rtcosim cosim --trace) as
     /// text: one line per register-file write, with state and register
     /// names, and one per pixel's end.
@@ -68,6 +73,7 @@ fn main() -> ExitCode {
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),
         Command::Render(args) => render::run(args).map(|()| true),
+        Command::Sweep(args) => sweep::run(args),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),
         Command::TraceDiff(args) => trace_diff::run(args),
     })

@@ -1,0 +1,357 @@
+//! The speed-against-accuracy chart of one scene's sweep, drawn with
+//! plotters as SVG and PNG.
+//!
+//! x: mean cycles per pixel; y: mean absolute error against the f64
+//! reference on the 0..255 scale, log scale. The mean, not the largest
+//! error, because it weighs the whole frame: the largest error is one
+//! pixel's, decided by rounding luck at an edge, and jumps between
+//! neighbouring configurations. A mean of exactly 0 has no place on a log
+//! axis: such points are drawn on the bottom edge as hollow triangles and
+//! the legend says so; non-finite means (a NaN colour) are not drawn, and
+//! the title counts them.
+//!
+//! Grey dots are all configurations, the blue line and dots the Pareto
+//! front, a green square a front point the RTL confirmed (bit- and
+//! cycle-exact on its sampled pixels), a red cross one it did not, the
+//! orange triangle the thesis' configuration.
+//!
+//! Text: plotters' own text rendering needs its `ttf` feature (font-kit,
+//! which needs fontconfig and freetype) or `ab_glyph` with font bytes from
+//! somewhere; neither is allowed or guaranteed. So plotters draws the shapes
+//! only, and the labels are a list drawn afterwards: into the SVG as text
+//! elements (the viewer picks a sans-serif font), into the PNG with golden's
+//! built-in 5x7 bitmap font ([`golden::diffmap::font`]). Both files carry
+//! the same labels at the same places.
+
+use super::{Row, SceneSweep, SweepError};
+use golden::diffmap::font;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::path::Path;
+
+/// The chart's size in pixels.
+pub const WIDTH: u32 = 960;
+pub const HEIGHT: u32 = 640;
+
+const LEFT: u32 = 90;
+const RIGHT: u32 = 30;
+const TOP: u32 = 70;
+const BOTTOM: u32 = 60;
+
+/// PNG text: each font pixel a SCALE x SCALE square; SVG text of the same
+/// height.
+const SCALE: u32 = 2;
+const SVG_TEXT_PX: f64 = 16.0;
+
+const GREY: RGBColor = RGBColor(150, 150, 150);
+const FRONT: RGBColor = RGBColor(30, 90, 200);
+const CONFIRMED: RGBColor = RGBColor(0, 150, 60);
+const FAILED: RGBColor = RGBColor(210, 30, 30);
+const THESIS: RGBColor = RGBColor(230, 120, 0);
+
+/// A label: text at a pixel, anchored by its left, centre or right edge
+/// and its top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Label {
+    pub text: String,
+    pub x: i32,
+    pub y: i32,
+    pub anchor: Anchor,
+}
+
+/// Which edge of a label its x is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Anchor {
+    Left,
+    Center,
+    Right,
+}
+
+impl From<Anchor> for HPos {
+    fn from(a: Anchor) -> HPos {
+        match a {
+            Anchor::Left => HPos::Left,
+            Anchor::Center => HPos::Center,
+            Anchor::Right => HPos::Right,
+        }
+    }
+}
+
+/// Writes the chart of `sweep` to `svg` and `png`.
+pub fn write(sweep: &SceneSweep, svg: &Path, png: &Path) -> Result<(), SweepError> {
+    let err = |path: &Path| {
+        let path = path.to_path_buf();
+        move |reason: String| SweepError::Chart {
+            path: path.clone(),
+            reason,
+        }
+    };
+    {
+        let root = SVGBackend::new(svg, (WIDTH, HEIGHT)).into_drawing_area();
+        let labels = draw(&root, sweep).map_err(err(svg))?;
+        for l in &labels {
+            let style = ("sans-serif", SVG_TEXT_PX)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(l.anchor.into(), VPos::Top));
+            root.draw(&Text::new(l.text.as_str(), (l.x, l.y), style))
+                .map_err(|e| err(svg)(e.to_string()))?;
+        }
+        root.present().map_err(|e| err(svg)(e.to_string()))?;
+    }
+    let mut buf = vec![0u8; WIDTH as usize * HEIGHT as usize * 3];
+    let labels = {
+        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, HEIGHT)).into_drawing_area();
+        let labels = draw(&root, sweep).map_err(err(png))?;
+        root.present().map_err(|e| err(png)(e.to_string()))?;
+        labels
+    };
+    let mut img = image::RgbImage::from_raw(WIDTH, HEIGHT, buf).expect("3 bytes a pixel");
+    for l in &labels {
+        let w = font::text_width(&l.text, SCALE) as i32;
+        let left = match l.anchor {
+            Anchor::Left => l.x,
+            Anchor::Center => l.x - w / 2,
+            Anchor::Right => l.x - w,
+        };
+        font::draw_text(&l.text, 0, 0, SCALE, &mut |dx, dy| {
+            let (x, y) = (left + dx as i32, l.y + dy as i32);
+            if (0..WIDTH as i32).contains(&x) && (0..HEIGHT as i32).contains(&y) {
+                img.put_pixel(x as u32, y as u32, image::Rgb([0, 0, 0]));
+            }
+        });
+    }
+    img.save_with_format(png, image::ImageFormat::Png)
+        .map_err(|e| err(png)(e.to_string()))
+}
+
+/// The front as steps: from each point right at its error to the next
+/// point's cycles, then down to that point's error (with more cycles, a
+/// front point's error is what can be had until the next point).
+fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut path = Vec::new();
+    for (i, &(x, y)) in points.iter().enumerate() {
+        if i > 0 {
+            path.push((x, points[i - 1].1));
+        }
+        path.push((x, y));
+    }
+    path
+}
+
+/// Finite, comparable error of a row (None: not drawn).
+fn error(r: &Row) -> Option<f64> {
+    r.mean_abs_error.is_finite().then_some(r.mean_abs_error)
+}
+
+/// The y range, whole decades around the positive errors.
+fn decades(rows: &[Row]) -> (i32, i32) {
+    let positive: Vec<f64> = rows.iter().filter_map(error).filter(|&e| e > 0.0).collect();
+    let lo = positive.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = positive.iter().copied().fold(0.0, f64::max);
+    if positive.is_empty() {
+        return (-6, 0);
+    }
+    let (lo, hi) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (lo, hi.max(lo + 1))
+}
+
+/// Ticks at 1, 2 or 5 times a power of ten, about six across [lo, hi].
+fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo) / 6.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// Draws the shapes of the chart of `sweep` on `root` and returns its
+/// labels (drawn by the caller, see the module doc).
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    sweep: &SceneSweep,
+) -> Result<Vec<Label>, String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let rows = &sweep.rows;
+    let (d0, d1) = decades(rows);
+    let (y0, y1) = (10f64.powi(d0), 10f64.powi(d1));
+    let cycles = rows.iter().map(|r| r.cycles_per_pixel);
+    let (c0, c1) = cycles.fold((f64::INFINITY, 0.0f64), |(a, b), c| (a.min(c), b.max(c)));
+    let (c0, c1) = if rows.is_empty() {
+        (0.0, 1.0)
+    } else {
+        let pad = ((c1 - c0) * 0.05).max(1.0);
+        ((c0 - pad).max(0.0), c1 + pad)
+    };
+    let mut chart = ChartBuilder::on(root)
+        .margin_top(TOP)
+        .margin_left(LEFT)
+        .margin_right(RIGHT)
+        .margin_bottom(BOTTOM)
+        .build_cartesian_2d(c0..c1, (y0..y1).log_scale())
+        .map_err(e)?;
+    let at = |r: &Row| {
+        (
+            r.cycles_per_pixel,
+            error(r).map(|v| v.max(y0)).unwrap_or(y0),
+        )
+    };
+    let mut labels = Vec::new();
+    let label = |text: String, (x, y): (i32, i32), anchor| Label { text, x, y, anchor };
+
+    // Grid, frame and tick labels.
+    let light = ShapeStyle::from(&RGBColor(225, 225, 225)).stroke_width(1);
+    let xt = ticks(c0, c1);
+    for &x in &xt {
+        chart
+            .draw_series([PathElement::new(vec![(x, y0), (x, y1)], light)])
+            .map_err(e)?;
+        let (px, py) = chart.backend_coord(&(x, y0));
+        labels.push(label(format!("{x}"), (px, py + 8), Anchor::Center));
+    }
+    for d in d0..=d1 {
+        let y = 10f64.powi(d);
+        chart
+            .draw_series([PathElement::new(vec![(c0, y), (c1, y)], light)])
+            .map_err(e)?;
+        let (px, py) = chart.backend_coord(&(c0, y));
+        labels.push(label(format!("1e{d}"), (px - 8, py - 7), Anchor::Right));
+    }
+    chart
+        .draw_series([Rectangle::new([(c0, y0), (c1, y1)], BLACK.stroke_width(1))])
+        .map_err(e)?;
+
+    // Every configuration; errors of exactly 0 as hollow triangles on the
+    // bottom edge.
+    let zero = rows.iter().filter(|r| r.mean_abs_error == 0.0).count();
+    chart
+        .draw_series(
+            rows.iter()
+                .filter(|r| error(r).is_some_and(|v| v > 0.0))
+                .map(|r| Circle::new(at(r), 3, GREY.filled())),
+        )
+        .map_err(e)?;
+    chart
+        .draw_series(
+            rows.iter()
+                .filter(|r| r.mean_abs_error == 0.0)
+                .map(|r| TriangleMarker::new(at(r), 5, GREY.stroke_width(1))),
+        )
+        .map_err(e)?;
+
+    // The front, slowest last.
+    let mut front: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.pareto && error(r).is_some())
+        .collect();
+    front.sort_by_key(|r| r.frame_cycles);
+    chart
+        .draw_series(LineSeries::new(
+            staircase(&front.iter().map(|r| at(r)).collect::<Vec<_>>()),
+            FRONT.stroke_width(2),
+        ))
+        .map_err(e)?;
+    chart
+        .draw_series(front.iter().map(|r| Circle::new(at(r), 4, FRONT.filled())))
+        .map_err(e)?;
+    let confirmed = |want: bool| front.iter().filter(move |r| r.rtl_confirmed == Some(want));
+    chart
+        .draw_series(confirmed(true).map(|r| {
+            EmptyElement::at(at(r)) + Rectangle::new([(-7, -7), (7, 7)], CONFIRMED.stroke_width(2))
+        }))
+        .map_err(e)?;
+    chart
+        .draw_series(confirmed(false).map(|r| Cross::new(at(r), 8, FAILED.stroke_width(3))))
+        .map_err(e)?;
+
+    // The thesis' configuration.
+    if let Some(t) = sweep.thesis().filter(|t| error(t).is_some()) {
+        chart
+            .draw_series([TriangleMarker::new(at(t), 9, THESIS.filled())])
+            .map_err(e)?;
+        let (px, py) = chart.backend_coord(&at(t));
+        // Beside the marker, on the side with room.
+        let (x, anchor) = if px > (WIDTH / 2) as i32 {
+            (px - 12, Anchor::Right)
+        } else {
+            (px + 12, Anchor::Left)
+        };
+        labels.push(label("thesis: depth 4, fp+ss".into(), (x, py - 24), anchor));
+    }
+
+    // Titles.
+    let (w, h) = (sweep.scene.camera.width, sweep.scene.camera.height);
+    let skipped = sweep.skipped.len();
+    let nonfinite = rows.iter().filter(|r| error(r).is_none()).count();
+    let mut title = format!(
+        "{} {w}x{h}: {} configurations, {skipped} refused by the scene",
+        sweep.name,
+        rows.len()
+    );
+    if nonfinite > 0 {
+        title += &format!(", {nonfinite} with non-finite error not drawn");
+    }
+    labels.push(label(title, (LEFT as i32, 10), Anchor::Left));
+    labels.push(label(
+        "mean |error| vs f64 reference (0..255, log)".into(),
+        (LEFT as i32, TOP as i32 - 26),
+        Anchor::Left,
+    ));
+    labels.push(label(
+        "mean cycles per pixel (micro-op model = RTL)".into(),
+        (
+            (LEFT + (WIDTH - LEFT - RIGHT) / 2) as i32,
+            (HEIGHT - BOTTOM) as i32 + 32,
+        ),
+        Anchor::Center,
+    ));
+
+    // Legend, top right: a marker and its text per line.
+    let mut legend: Vec<(&str, RGBColor)> = vec![
+        ("all configurations", GREY),
+        ("Pareto front", FRONT),
+        ("RTL-confirmed (bit+cycle)", CONFIRMED),
+    ];
+    if front.iter().any(|r| r.rtl_confirmed == Some(false)) {
+        legend.push(("RTL check failed", FAILED));
+    }
+    legend.push(("thesis configuration", THESIS));
+    let zero_text = format!("error exactly 0 ({zero}): bottom edge");
+    if zero > 0 {
+        legend.push((zero_text.as_str(), GREY));
+    }
+    let lx = (WIDTH - RIGHT) as i32 - 330;
+    for (i, (text, colour)) in legend.iter().enumerate() {
+        let ly = TOP as i32 + 12 + 24 * i as i32;
+        root.draw(&Rectangle::new(
+            [(lx, ly + 2), (lx + 10, ly + 12)],
+            colour.filled(),
+        ))
+        .map_err(e)?;
+        labels.push(label(text.to_string(), (lx + 18, ly), Anchor::Left));
+    }
+    Ok(labels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_are_round_and_inside() {
+        assert_eq!(
+            ticks(0.0, 600.0),
+            vec![0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0]
+        );
+        let t = ticks(137.0, 391.0);
+        assert_eq!(t.first(), Some(&150.0));
+        assert_eq!(t.last(), Some(&350.0));
+    }
+}

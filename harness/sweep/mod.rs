@@ -1,0 +1,602 @@
+//! Speed against accuracy: a grid of render configurations of a scene, each
+//! measured for speed (the micro-op model's cycles, which are the RTL's,
+//! cycle for cycle) and for accuracy (against the f64 reference renderer),
+//! the Pareto front of the two, and the front confirmed through the RTL.
+//!
+//! - [`Config`]: one point of the grid (methods, stack depth, speed-ups);
+//!   [`Grid`]: the lists it is the product of.
+//! - [`sweep_scene`]: renders every configuration the scene accepts with
+//!   [`golden::micro`] and measures it against [`golden::reference`];
+//!   configurations the scene refuses (a speed-up whose precondition it
+//!   breaks) are skipped and counted.
+//! - [`pareto_front`]: which rows no other row beats in both speed and error.
+//! - [`confirm`]: each front configuration co-simulated on the RTL
+//!   ([`crate::cosim::run_pixels`]) on every pixel where its frame differs
+//!   from the [full](Config::full) configuration's, plus a seeded sample.
+//! - [`write_csv`], [`write_json`]: the rows, machine-readable;
+//!   [`chart`]: the chart, SVG and PNG.
+//!
+//! One RTL build serves every depth: the verilated pixel processor has the
+//! full [`MAX_DEPTH`]-level stack (`STACK_DEPTH` defaults to
+//! `ISA_DIM_STK_COUNT` = 8 in rtl/pp/pixel_processor.v and build.rs does not
+//! override it), and the scene's `max_depth`, loaded into the configuration
+//! word, limits how much of it a pixel uses. The methods pick one of the
+//! four verilated variants. A row's `rtl_stack_depth` is what a build *for
+//! that configuration* needs, not what was co-simulated.
+
+pub mod chart;
+
+use crate::compare::CompareReport;
+use crate::cosim::{self, CosimError, CosimOptions};
+use golden::diffmap::DiffMap;
+use golden::fp::Method;
+use golden::frame::Frame;
+use golden::scene::{RenderSettings, Scene, SceneError, Speedups, MAX_DEPTH};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The clock frames per second are stated at: the largest frequency Xilinx
+/// ISE reported for one pixel processor on the Virtex-6 LX760, thesis
+/// section 5.2 ("1 Pixel Processor ... Maximum frequency 34.740MHz"; its
+/// 148,655,803 cycles a frame at that clock are the table's 4.279 s).
+pub const THESIS_CLOCK_HZ: f64 = 34.740e6;
+
+/// The share of pixels reported is of those off by more than this on the
+/// 0..255 scale: the thesis' own bound (section 4.11: "a difference less
+/// than 0.5 would be acceptable").
+pub const VISIBLE: f64 = 0.5;
+
+/// One render configuration: what the grid varies. Everything else (the
+/// camera, the objects, any render setting this type does not name) is the
+/// scene's own: [`Config::apply`] replaces only these fields.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    pub recip: Method,
+    pub sqrt: Method,
+    /// Ray stack depth, 1..=[`MAX_DEPTH`].
+    pub depth: u32,
+    pub speedups: Speedups,
+}
+
+impl Config {
+    /// The full configuration, the one every other is checked against on
+    /// the RTL: the deepest stack, the correctly rounded units, no
+    /// speed-ups (nothing skipped, nothing approximated).
+    pub fn full() -> Config {
+        Config {
+            recip: Method::Exact,
+            sqrt: Method::Exact,
+            depth: MAX_DEPTH,
+            speedups: Speedups::default(),
+        }
+    }
+
+    /// The thesis' Verilog configuration: stack depth 4 (section 3.8) and
+    /// two of the three speed-ups, fast plane checks and the shadow
+    /// shortcut, without the bounding box (section 3.10.5). Its float units
+    /// were Xilinx IP cores of unknown rounding; the correctly rounded
+    /// methods stand for them here.
+    pub fn thesis() -> Config {
+        Config {
+            recip: Method::Exact,
+            sqrt: Method::Exact,
+            depth: 4,
+            speedups: Speedups {
+                bounding_box: false,
+                fast_plane: true,
+                shadow_shortcut: true,
+            },
+        }
+    }
+
+    /// `scene` with this configuration, validated again: a speed-up whose
+    /// precondition the scene breaks is refused here, in the scene's words.
+    pub fn apply(&self, scene: &Scene, origin: &str) -> Result<Scene, SceneError> {
+        // The update keeps every setting this type does not name (a future
+        // one, such as a weight cutoff, until it joins the grid).
+        #[allow(clippy::needless_update)]
+        let render = RenderSettings {
+            max_depth: self.depth,
+            speedups: self.speedups,
+            recip: self.recip,
+            sqrt: self.sqrt,
+            ..scene.render
+        };
+        crate::scenes::with_render(scene, render, origin)
+    }
+
+    /// A short name: `depth 4, recip exact, sqrt fast, fp+ss`.
+    pub fn label(&self) -> String {
+        format!(
+            "depth {}, recip {}, sqrt {}, {}",
+            self.depth,
+            self.recip,
+            self.sqrt,
+            speedup_label(self.speedups)
+        )
+    }
+}
+
+/// `bb+fp+ss` for the speed-ups on, `none` for none.
+pub fn speedup_label(s: Speedups) -> String {
+    let on: Vec<&str> = [
+        (s.bounding_box, "bb"),
+        (s.fast_plane, "fp"),
+        (s.shadow_shortcut, "ss"),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .map(|(_, name)| *name)
+    .collect();
+    if on.is_empty() {
+        "none".into()
+    } else {
+        on.join("+")
+    }
+}
+
+/// The grid: the product of these lists, in this order (recip, sqrt,
+/// depth, speed-ups), which is the order of the CSV's rows.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Grid {
+    pub recips: Vec<Method>,
+    pub sqrts: Vec<Method>,
+    pub depths: Vec<u32>,
+    pub speedups: Vec<Speedups>,
+}
+
+impl Grid {
+    /// Both methods of each unit, every depth 1..=8, each speed-up on and
+    /// off (8 combinations): 256 configurations.
+    pub fn full() -> Grid {
+        let both = vec![Method::Exact, Method::Fast];
+        Grid {
+            recips: both.clone(),
+            sqrts: both,
+            depths: (1..=MAX_DEPTH).collect(),
+            speedups: (0..8u8)
+                .map(|bits| Speedups {
+                    bounding_box: bits & 4 != 0,
+                    fast_plane: bits & 2 != 0,
+                    shadow_shortcut: bits & 1 != 0,
+                })
+                .collect(),
+        }
+    }
+
+    /// Every configuration, in row order.
+    pub fn configs(&self) -> Vec<Config> {
+        let mut out = Vec::new();
+        for &recip in &self.recips {
+            for &sqrt in &self.sqrts {
+                for &depth in &self.depths {
+                    for &speedups in &self.speedups {
+                        out.push(Config {
+                            recip,
+                            sqrt,
+                            depth,
+                            speedups,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// One configuration of one scene, measured: a row of the CSV. The field
+/// order is the column order (docs/accuracy.md, "Speed against accuracy",
+/// documents each column).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Row {
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub recip: &'static str,
+    pub sqrt: &'static str,
+    pub depth: u32,
+    pub bounding_box: bool,
+    pub fast_plane: bool,
+    pub shadow_shortcut: bool,
+    /// Mean cycles per pixel (the micro-op model's = the RTL's).
+    pub cycles_per_pixel: f64,
+    /// The slowest pixel's cycles.
+    pub max_cycles: u64,
+    /// Cycles of the whole frame on one pixel processor.
+    pub frame_cycles: u64,
+    /// Frames per second of one pixel processor at `clock_mhz`.
+    pub fps: f64,
+    pub clock_mhz: f64,
+    /// Mean |micro - reference| over every colour value, 0..255 scale.
+    pub mean_abs_error: f64,
+    /// Largest |micro - reference| of any colour value, 0..255 scale.
+    pub max_abs_error: f64,
+    /// Share (0..=1) of pixels with a channel off by more than [`VISIBLE`].
+    pub share_pixels_over_half: f64,
+    /// Largest ULP distance of a colour value (the reference rounded to f32).
+    pub max_ulps: u32,
+    /// Colour values NaN on one side only.
+    pub nan_mismatches: u64,
+    /// The RTL build this configuration needs.
+    pub rtl_stack_depth: u32,
+    pub rtl_recip_method: u32,
+    pub rtl_sqrt_method: u32,
+    /// On the Pareto front of (cycles per pixel, mean abs error).
+    pub pareto: bool,
+    /// Front rows only: pixels whose colour differs from the full
+    /// configuration's, pixels co-simulated (those plus the sample), and
+    /// whether the RTL agreed on every one, bit and cycle.
+    pub differs_from_full: Option<u64>,
+    pub rtl_pixels: Option<u64>,
+    pub rtl_confirmed: Option<bool>,
+}
+
+impl Row {
+    /// The configuration this row measured.
+    pub fn config(&self) -> Config {
+        let method = |name: &str| {
+            if name == Method::Fast.name() {
+                Method::Fast
+            } else {
+                Method::Exact
+            }
+        };
+        Config {
+            recip: method(self.recip),
+            sqrt: method(self.sqrt),
+            depth: self.depth,
+            speedups: Speedups {
+                bounding_box: self.bounding_box,
+                fast_plane: self.fast_plane,
+                shadow_shortcut: self.shadow_shortcut,
+            },
+        }
+    }
+}
+
+/// A configuration the scene refused, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Skipped {
+    pub config: Config,
+    pub reason: String,
+}
+
+/// A scene's sweep.
+#[derive(Debug, Clone)]
+pub struct SceneSweep {
+    /// As the user named it.
+    pub name: String,
+    pub scene: Scene,
+    pub rows: Vec<Row>,
+    pub skipped: Vec<Skipped>,
+}
+
+impl SceneSweep {
+    /// The row of the thesis' configuration, if the grid has it and the
+    /// scene accepts it.
+    pub fn thesis(&self) -> Option<&Row> {
+        self.rows.iter().find(|r| r.config() == Config::thesis())
+    }
+}
+
+/// Why a sweep cannot run or be written.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    #[error("{scene}: the reference configuration (depth {MAX_DEPTH}): {source}")]
+    Reference {
+        scene: String,
+        #[source]
+        source: Box<SceneError>,
+    },
+    #[error("{scene}: {config}: co-simulation: {source}")]
+    Cosim {
+        scene: String,
+        config: String,
+        #[source]
+        source: Box<CosimError>,
+    },
+    #[error("{scene}: {config}: {source}")]
+    Config {
+        scene: String,
+        config: String,
+        #[source]
+        source: Box<SceneError>,
+    },
+    #[error("{}: cannot write", path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: cannot write the CSV", path.display())]
+    Csv {
+        path: PathBuf,
+        #[source]
+        source: csv::Error,
+    },
+    #[error("{}: cannot draw the chart: {reason}", path.display())]
+    Chart { path: PathBuf, reason: String },
+}
+
+/// The f64 reference frame the sweep measures against: the scene at the
+/// deepest stack (speed-ups and methods do not apply to the reference).
+pub fn reference_frame(name: &str, scene: &Scene) -> Result<Frame, SweepError> {
+    let deepest = Config {
+        depth: MAX_DEPTH,
+        ..Config::full()
+    }
+    .apply(scene, name)
+    .map_err(|source| SweepError::Reference {
+        scene: name.into(),
+        source: Box::new(source),
+    })?;
+    Ok(golden::reference::render(&deepest, &|_| {}))
+}
+
+/// Renders every configuration of `grid` that `scene` accepts with the
+/// micro-op model, in parallel on the current rayon pool, and measures each
+/// against `reference` ([`reference_frame`]). `progress` is called once per
+/// configuration finished. The rows' Pareto marks are set; the RTL columns
+/// are left empty for [`confirm`].
+pub fn sweep_scene(
+    name: &str,
+    scene: &Scene,
+    reference: &Frame,
+    grid: &Grid,
+    clock_hz: f64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> SceneSweep {
+    let mut skipped = Vec::new();
+    let mut runs = Vec::new();
+    for config in grid.configs() {
+        match config.apply(scene, name) {
+            Ok(s) => runs.push((config, s)),
+            Err(e) => {
+                progress(1);
+                skipped.push(Skipped {
+                    config,
+                    reason: e.to_string(),
+                })
+            }
+        }
+    }
+    let mut rows: Vec<Row> = runs
+        .par_iter()
+        .map(|(config, s)| {
+            let row = measure(name, config, s, reference, clock_hz);
+            progress(1);
+            row
+        })
+        .collect();
+    let front = pareto_front(&rows);
+    for (row, on) in rows.iter_mut().zip(front) {
+        row.pareto = on;
+    }
+    SceneSweep {
+        name: name.into(),
+        scene: scene.clone(),
+        rows,
+        skipped,
+    }
+}
+
+/// One configuration's row (RTL columns empty, not on the front yet).
+fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_hz: f64) -> Row {
+    let (frame, stats) = golden::micro::render(scene, &|_| {});
+    let map = DiffMap::new(&frame, reference).expect("the reference has the scene's size");
+    let table = map.table("micro", "reference", &[0.0]);
+    // Over 0 is every nonzero difference, so their sum is the sum of all.
+    let nonzero = &table.rows[0];
+    let mean_abs_error =
+        nonzero.mean_over.unwrap_or(0.0) * nonzero.over as f64 / table.channels.max(1) as f64;
+    let mask = map.mask(VISIBLE);
+    let over = mask.pixels().filter(|p| p.0[0] == 0).count();
+    Row {
+        scene: name.into(),
+        width: scene.camera.width,
+        height: scene.camera.height,
+        recip: config.recip.name(),
+        sqrt: config.sqrt.name(),
+        depth: config.depth,
+        bounding_box: config.speedups.bounding_box,
+        fast_plane: config.speedups.fast_plane,
+        shadow_shortcut: config.speedups.shadow_shortcut,
+        cycles_per_pixel: stats.mean_cycles(),
+        max_cycles: stats.max_cycles,
+        frame_cycles: stats.cycles,
+        fps: clock_hz / stats.cycles as f64,
+        clock_mhz: clock_hz / 1e6,
+        mean_abs_error,
+        max_abs_error: table.largest.first().map_or(0.0, |l| l.value),
+        share_pixels_over_half: over as f64 / scene.pixel_count() as f64,
+        max_ulps: table.max_ulps,
+        nan_mismatches: table.nan_mismatches,
+        rtl_stack_depth: config.depth,
+        rtl_recip_method: config.recip.code(),
+        rtl_sqrt_method: config.sqrt.code(),
+        pareto: false,
+        differs_from_full: None,
+        rtl_pixels: None,
+        rtl_confirmed: None,
+    }
+}
+
+/// For each row, whether it is on the Pareto front of (frame cycles, mean
+/// abs error), both minimized: no other row is at most as slow and at most
+/// as wrong, and strictly better in one. Rows equal in both are all on it.
+/// NaN errors count as worse than any number.
+pub fn pareto_front(rows: &[Row]) -> Vec<bool> {
+    let key = |r: &Row| (r.frame_cycles, r.mean_abs_error);
+    rows.iter()
+        .map(|r| {
+            let (c, e) = key(r);
+            !rows.iter().any(|o| {
+                let (oc, oe) = key(o);
+                let no_worse = oc <= c && oe.total_cmp(&e).is_le();
+                let better = oc < c || oe.total_cmp(&e).is_lt();
+                no_worse && better
+            })
+        })
+        .collect()
+}
+
+/// How the front is checked on the RTL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ConfirmOptions {
+    /// Random pixels co-simulated besides those that differ from the full
+    /// configuration's frame.
+    pub sample: u64,
+    pub seed: u64,
+    pub cosim: CosimOptions,
+}
+
+/// The pixels a front configuration is checked on: every pixel where
+/// `frame` differs from `full` in any channel's bits, and `sample` pixels
+/// drawn from a ChaCha8 stream of `seed` (without repetition); sorted in
+/// row order, no duplicates. Also returns how many differ.
+pub fn check_pixels(frame: &Frame, full: &Frame, sample: u64, seed: u64) -> (Vec<(u32, u32)>, u64) {
+    let w = frame.width as usize;
+    let at = |i: usize| ((i % w) as u32, (i / w) as u32);
+    let mut picked: Vec<usize> = frame
+        .pixels
+        .iter()
+        .zip(&full.pixels)
+        .enumerate()
+        .filter(|(_, (a, b))| {
+            a.iter()
+                .zip(b.iter())
+                .any(|(p, q)| p.to_bits() != q.to_bits())
+        })
+        .map(|(i, _)| i)
+        .collect();
+    let differing = picked.len() as u64;
+    let n = frame.pixels.len();
+    let k = usize::try_from(sample).unwrap_or(usize::MAX).min(n);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    picked.extend(rand::seq::index::sample(&mut rng, n, k));
+    picked.sort_unstable();
+    picked.dedup();
+    (picked.into_iter().map(at).collect(), differing)
+}
+
+/// Co-simulates each front row's configuration on the RTL on its
+/// [`check_pixels`] and fills in its RTL columns. `progress` is called with
+/// pixels finished; `total` (called first) with the number to come.
+pub fn confirm(
+    sweep: &mut SceneSweep,
+    options: &ConfirmOptions,
+    total: &dyn Fn(u64),
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<CompareReport>, SweepError> {
+    let scene_of = |config: &Config| {
+        config
+            .apply(&sweep.scene, &sweep.name)
+            .map_err(|source| SweepError::Config {
+                scene: sweep.name.clone(),
+                config: config.label(),
+                source: Box::new(source),
+            })
+    };
+    let (full, _) = golden::micro::render(&scene_of(&Config::full())?, &|_| {});
+    let mut plans = Vec::new();
+    for (i, row) in sweep.rows.iter().enumerate().filter(|(_, r)| r.pareto) {
+        let scene = scene_of(&row.config())?;
+        let (frame, _) = golden::micro::render(&scene, &|_| {});
+        let (pixels, differing) = check_pixels(&frame, &full, options.sample, options.seed);
+        plans.push((i, scene, pixels, differing));
+    }
+    total(plans.iter().map(|p| p.2.len() as u64).sum());
+    let mut reports = Vec::new();
+    for (i, scene, pixels, differing) in plans {
+        let row = &mut sweep.rows[i];
+        let report =
+            cosim::run_pixels(&scene, &pixels, &options.cosim, progress).map_err(|source| {
+                SweepError::Cosim {
+                    scene: sweep.name.clone(),
+                    config: row.config().label(),
+                    source: Box::new(source),
+                }
+            })?;
+        row.differs_from_full = Some(differing);
+        row.rtl_pixels = Some(report.counts.pixels);
+        row.rtl_confirmed = Some(report.passed());
+        reports.push(report);
+    }
+    Ok(reports)
+}
+
+/// Writes `rows` as CSV to `path`: a header of the [`Row`] field names,
+/// one row per scene and configuration; empty cells for the RTL columns of
+/// rows off the front.
+pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), SweepError> {
+    let err = |source| SweepError::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut out = csv::Writer::from_path(path).map_err(err)?;
+    for row in rows {
+        out.serialize(row).map_err(err)?;
+    }
+    out.flush().map_err(|source| SweepError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The JSON document of a sweep: the settings, the skipped configurations
+/// and the rows.
+#[derive(Debug, Serialize)]
+struct Document<'a> {
+    clock_mhz: f64,
+    reference_depth: u32,
+    visible_threshold: f64,
+    scenes: Vec<SceneDocument<'a>>,
+}
+
+#[derive(Debug, Serialize)]
+struct SceneDocument<'a> {
+    scene: &'a str,
+    configurations: usize,
+    skipped: Vec<SkippedDocument>,
+    rows: &'a [Row],
+}
+
+#[derive(Debug, Serialize)]
+struct SkippedDocument {
+    config: String,
+    reason: String,
+}
+
+/// Writes the sweeps as JSON to `path`.
+pub fn write_json(path: &Path, sweeps: &[SceneSweep], clock_hz: f64) -> Result<(), SweepError> {
+    let doc = Document {
+        clock_mhz: clock_hz / 1e6,
+        reference_depth: MAX_DEPTH,
+        visible_threshold: VISIBLE,
+        scenes: sweeps
+            .iter()
+            .map(|s| SceneDocument {
+                scene: &s.name,
+                configurations: s.rows.len() + s.skipped.len(),
+                skipped: s
+                    .skipped
+                    .iter()
+                    .map(|k| SkippedDocument {
+                        config: k.config.label(),
+                        reason: k.reason.clone(),
+                    })
+                    .collect(),
+                rows: &s.rows,
+            })
+            .collect(),
+    };
+    let text = serde_json::to_string_pretty(&doc).expect("rows are plain numbers and strings");
+    std::fs::write(path, text + "\n").map_err(|source| SweepError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,0 +1,366 @@
+//! `rtcosim sweep`: a tiny sweep whose CSV is checked against computations
+//! made here, independently of the sweep's code (the micro-op model's frame
+//! statistics, the errors against the f64 reference pixel by pixel, the
+//! Pareto front by a different algorithm), its chart files, and a fault that
+//! makes the RTL confirmation fail.
+
+mod common;
+
+use common::{arg, rtcosim, scratch, text};
+use golden::fp::{ulp_distance, Method, UlpDistance};
+use golden::frame::Frame;
+use golden::scene::{RenderSettings, Scene, Speedups};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// The documented column order (docs/accuracy.md, "Speed against accuracy").
+const HEADER: [&str; 26] = [
+    "scene",
+    "width",
+    "height",
+    "recip",
+    "sqrt",
+    "depth",
+    "bounding_box",
+    "fast_plane",
+    "shadow_shortcut",
+    "cycles_per_pixel",
+    "max_cycles",
+    "frame_cycles",
+    "fps",
+    "clock_mhz",
+    "mean_abs_error",
+    "max_abs_error",
+    "share_pixels_over_half",
+    "max_ulps",
+    "nan_mismatches",
+    "rtl_stack_depth",
+    "rtl_recip_method",
+    "rtl_sqrt_method",
+    "pareto",
+    "differs_from_full",
+    "rtl_pixels",
+    "rtl_confirmed",
+];
+
+type Record = HashMap<String, String>;
+
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Record>) {
+    let mut reader = csv::Reader::from_path(path).expect("sweep.csv");
+    let header: Vec<String> = reader
+        .headers()
+        .expect("a header")
+        .iter()
+        .map(String::from)
+        .collect();
+    let rows = reader
+        .records()
+        .map(|r| {
+            let r = r.expect("a well-formed row");
+            header
+                .iter()
+                .cloned()
+                .zip(r.iter().map(String::from))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn num(r: &Record, col: &str) -> f64 {
+    r[col]
+        .parse()
+        .unwrap_or_else(|e| panic!("{col} = {:?}: {e}", r[col]))
+}
+
+/// The reference scene at 24x18 with this configuration.
+fn scene(depth: u32, recip: Method, sqrt: Method, speedups: Speedups) -> Scene {
+    let base = Scene::reference().resized(24, 18, "test").expect("valid");
+    #[allow(clippy::needless_update)] // keeps settings the test does not name
+    let render = RenderSettings {
+        max_depth: depth,
+        speedups,
+        recip,
+        sqrt,
+        ..base.render
+    };
+    Scene::new(
+        "test",
+        base.camera.clone(),
+        base.light.clone(),
+        base.spheres.clone(),
+        base.planes.clone(),
+        render,
+    )
+    .expect("the reference scene takes every speed-up")
+}
+
+fn method(s: &str) -> Method {
+    match s {
+        "exact" => Method::Exact,
+        "fast" => Method::Fast,
+        _ => panic!("method {s:?}"),
+    }
+}
+
+fn row_scene(r: &Record) -> Scene {
+    let flag = |c: &str| r[c] == "true";
+    scene(
+        num(r, "depth") as u32,
+        method(&r["recip"]),
+        method(&r["sqrt"]),
+        Speedups {
+            bounding_box: flag("bounding_box"),
+            fast_plane: flag("fast_plane"),
+            shadow_shortcut: flag("shadow_shortcut"),
+        },
+    )
+}
+
+/// Errors of `frame` against `reference`, computed channel by channel here:
+/// (mean abs, max abs, share of pixels with a channel over 0.5, max ULP).
+fn errors(frame: &Frame, reference: &Frame) -> (f64, f64, f64, u32) {
+    let (mut sum, mut max, mut over, mut ulps, mut n) = (0.0, 0.0f64, 0usize, 0u32, 0usize);
+    for (p, q) in frame.pixels.iter().zip(&reference.pixels) {
+        let mut visible = false;
+        for ch in 0..3 {
+            let d = (p[ch] - q[ch]).abs() * 255.0;
+            sum += d;
+            n += 1;
+            max = max.max(d);
+            visible |= d > 0.5;
+            if let UlpDistance::Ulps(u) = ulp_distance(p[ch] as f32, q[ch] as f32, true) {
+                ulps = ulps.max(u);
+            }
+        }
+        over += usize::from(visible);
+    }
+    (
+        sum / n as f64,
+        max,
+        over as f64 / frame.pixels.len() as f64,
+        ulps,
+    )
+}
+
+/// The front by another algorithm than the sweep's pairwise test: sort by
+/// (cycles, error); walking up the cycles, a row is on the front iff its
+/// error is below every error of strictly fewer cycles and is the least at
+/// its own cycle count.
+fn front_by_sorting(points: &[(u64, f64)]) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        points[a]
+            .0
+            .cmp(&points[b].0)
+            .then(points[a].1.total_cmp(&points[b].1))
+    });
+    let mut on = vec![false; points.len()];
+    let mut best_below = f64::INFINITY;
+    let mut i = 0;
+    while i < order.len() {
+        let cycles = points[order[i]].0;
+        let least = points[order[i]].1;
+        let mut j = i;
+        while j < order.len() && points[order[j]].0 == cycles {
+            let e = points[order[j]].1;
+            on[order[j]] = e == least && e < best_below;
+            j += 1;
+        }
+        best_below = best_below.min(least);
+        i = j;
+    }
+    on
+}
+
+#[test]
+fn a_tiny_sweep_agrees_with_independent_computations() {
+    let dir = scratch("sweep", "tiny");
+    let out = rtcosim(&[
+        "sweep",
+        "--scene",
+        "reference",
+        "--size",
+        "24x18",
+        "--depths",
+        "1,4",
+        "--sample",
+        "16",
+        "--out",
+        arg(&dir),
+    ]);
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
+    let (header, rows) = read_csv(&dir.join("sweep.csv"));
+    assert_eq!(header, HEADER);
+    // 2 recip x 2 sqrt x 2 depths x 8 speed-up sets; the reference scene
+    // refuses none.
+    assert_eq!(rows.len(), 64);
+    assert!(
+        stdout.contains("64 configurations run, 0 refused"),
+        "{stdout}"
+    );
+
+    let deepest = scene(8, Method::Exact, Method::Exact, Speedups::default());
+    let reference = golden::reference::render(&deepest, &|_| {});
+    let full = golden::micro::render(&deepest, &|_| {}).0;
+    for r in &rows {
+        let s = row_scene(r);
+        let (frame, stats) = golden::micro::render(&s, &|_| {});
+        let what = format!("{r:?}");
+        assert_eq!(num(r, "frame_cycles"), stats.cycles as f64, "{what}");
+        assert_eq!(num(r, "max_cycles"), stats.max_cycles as f64, "{what}");
+        assert!((num(r, "cycles_per_pixel") - stats.cycles as f64 / 432.0).abs() < 1e-9);
+        assert!((num(r, "fps") - 34.74e6 / stats.cycles as f64).abs() < 1e-9 * num(r, "fps"));
+        let (mean, max, share, ulps) = errors(&frame, &reference);
+        assert!(
+            (num(r, "mean_abs_error") - mean).abs() <= 1e-12 * mean.max(1.0),
+            "{what}"
+        );
+        assert_eq!(num(r, "max_abs_error"), max, "{what}");
+        assert_eq!(num(r, "share_pixels_over_half"), share, "{what}");
+        assert_eq!(num(r, "max_ulps"), f64::from(ulps), "{what}");
+        assert_eq!(r["rtl_stack_depth"], r["depth"]);
+        assert_eq!(
+            r["rtl_recip_method"],
+            if r["recip"] == "fast" { "1" } else { "0" }
+        );
+        if r["pareto"] == "true" {
+            // Every pixel that differs from the full configuration's frame
+            // was co-simulated, and the RTL agreed.
+            let differ = frame
+                .pixels
+                .iter()
+                .zip(&full.pixels)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(num(r, "differs_from_full"), differ as f64, "{what}");
+            let checked = num(r, "rtl_pixels");
+            assert!(
+                checked >= differ.max(16) as f64 && checked <= 432.0,
+                "{what}"
+            );
+            assert_eq!(r["rtl_confirmed"], "true", "{what}");
+        } else {
+            assert_eq!(
+                (
+                    &*r["differs_from_full"],
+                    &*r["rtl_pixels"],
+                    &*r["rtl_confirmed"]
+                ),
+                ("", "", "")
+            );
+        }
+    }
+    // Depth 1 renders no reflection: it must be less accurate than depth 4.
+    let points: Vec<(u64, f64)> = rows
+        .iter()
+        .map(|r| (num(r, "frame_cycles") as u64, num(r, "mean_abs_error")))
+        .collect();
+    let front = front_by_sorting(&points);
+    for (r, on) in rows.iter().zip(&front) {
+        assert_eq!(r["pareto"], on.to_string(), "{r:?}");
+    }
+    assert!(front.iter().filter(|&&on| on).count() >= 2);
+
+    // The chart files.
+    for ext in ["svg", "png"] {
+        let path = dir.join(format!("chart-reference.{ext}"));
+        assert!(stdout.contains(&path.display().to_string()), "{stdout}");
+    }
+    let png = image::open(dir.join("chart-reference.png")).expect("a valid PNG");
+    assert_eq!((png.width(), png.height()), (960, 640));
+    let svg = std::fs::read_to_string(dir.join("chart-reference.svg")).expect("the SVG");
+    assert!(svg.trim_start().starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("thesis: depth 4, fp+ss") && svg.contains("Pareto front"));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
+            .expect("valid JSON");
+    assert_eq!(json["scenes"][0]["rows"].as_array().map(Vec::len), Some(64));
+}
+
+#[test]
+fn an_injected_rtl_fault_fails_the_confirmation() {
+    let dir = scratch("sweep", "fault");
+    let out = rtcosim(&[
+        "sweep",
+        "--scene",
+        "reference",
+        "--size",
+        "16x12",
+        "--depths",
+        "2",
+        "--sample",
+        "8",
+        "--fault",
+        "PRI_HALF:0x400",
+        "--out",
+        arg(&dir),
+    ]);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", text(&out.stderr));
+    assert!(stdout.contains("FAILED"), "{stdout}");
+    let (_, rows) = read_csv(&dir.join("sweep.csv"));
+    let front: Vec<&Record> = rows.iter().filter(|r| r["pareto"] == "true").collect();
+    assert!(!front.is_empty());
+    assert!(
+        front.iter().all(|r| r["rtl_confirmed"] == "false"),
+        "{front:?}"
+    );
+}
+
+#[test]
+fn refused_configurations_are_skipped_and_counted() {
+    let dir = scratch("sweep", "box-room");
+    let out = rtcosim(&[
+        "sweep",
+        "--scene",
+        "box_room",
+        "--size",
+        "12x9",
+        "--depths",
+        "2",
+        "--no-rtl",
+        "--out",
+        arg(&dir),
+    ]);
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
+    // box_room breaks the shadow shortcut's precondition: the 4 speed-up
+    // sets with it, of 8, for each of the 4 method pairs.
+    assert!(
+        stdout.contains("16 configurations run, 16 refused"),
+        "{stdout}"
+    );
+    let (_, rows) = read_csv(&dir.join("sweep.csv"));
+    assert_eq!(rows.len(), 16);
+    assert!(rows
+        .iter()
+        .all(|r| r["shadow_shortcut"] == "false" && r["rtl_confirmed"].is_empty()));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
+            .expect("valid JSON");
+    let skipped = json["scenes"][0]["skipped"].as_array().expect("skipped");
+    assert_eq!(skipped.len(), 16);
+    assert!(skipped.iter().all(|s| s["reason"]
+        .as_str()
+        .is_some_and(|r| r.contains("shadow_shortcut"))));
+}
+
+#[test]
+fn bad_arguments_are_refused_naming_the_flag() {
+    let dir = scratch("sweep", "bad");
+    let cases: [(&[&str], &str); 3] = [
+        (&["--depths", "0,9"], "--depths"),
+        (&["--scene", "no-such-scene"], "no-such-scene"),
+        (&["--clock-mhz", "0"], "--clock-mhz"),
+    ];
+    for (extra, message) in cases {
+        let mut args = vec!["sweep", "--size", "8x6", "--out", arg(&dir)];
+        args.extend_from_slice(extra);
+        let out = rtcosim(&args);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(message), "{extra:?}: {stderr}");
+    }
+}

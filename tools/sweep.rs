@@ -1,0 +1,194 @@
+//! `rtcosim sweep`: speed against accuracy over the grid of configurations.
+
+use crate::args::{parse_cycles, parse_fault, parse_size, Size, ThreadsArgs};
+use crate::ui::{plural, progress_bar};
+use anyhow::{Context, Result};
+use golden::scene::MAX_DEPTH;
+use rtcosim::cosim::CosimOptions;
+use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::scenes::{self, Overrides};
+use rtcosim::sweep::{self, chart, ConfirmOptions, Grid, Row, SceneSweep, THESIS_CLOCK_HZ};
+use std::io::Write;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct SweepArgs {
+    /// A scene file (TOML) or builtin scene name.
+    #[arg(long, default_value = "reference", conflicts_with = "scenes")]
+    pub scene: String,
+    /// Several scenes, comma-separated (one CSV, one chart per scene).
+    #[arg(long, value_delimiter = ',', value_name = "S1,S2,...")]
+    pub scenes: Vec<String>,
+    /// Image size WxH instead of each scene's (field of view kept).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<Size>,
+    /// Stack depths to sweep, comma-separated (default: 1 to 8).
+    #[arg(long, value_delimiter = ',', value_name = "D1,D2,...",
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_DEPTH)))]
+    pub depths: Vec<u32>,
+    /// Write sweep.csv, sweep.json and chart-<scene>.svg/.png into DIR
+    /// (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// The clock frames per second are given at, in MHz (default: the
+    /// thesis' one-processor maximum on the Virtex-6, section 5.2).
+    #[arg(long, value_name = "MHZ", default_value_t = THESIS_CLOCK_HZ / 1e6)]
+    pub clock_mhz: f64,
+    /// Random pixels each front configuration is co-simulated on, besides
+    /// every pixel where it differs from the full configuration.
+    #[arg(long, value_name = "N", default_value_t = 256)]
+    pub sample: u64,
+    /// Seed of that sample.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Do not co-simulate the front on the RTL (the RTL columns stay empty).
+    #[arg(long)]
+    pub no_rtl: bool,
+    /// Self-test: inject a bit flip into the RTL's writes in state STATE
+    /// (see `cosim --fault`), so the confirmation must fail (exit 1).
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
+    pub fault: Option<Fault>,
+    /// Cycles a pixel may take before the RTL counts as hung.
+    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES,
+          value_parser = parse_cycles)]
+    pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub threads: ThreadsArgs,
+}
+
+/// Returns whether the RTL confirmed every front configuration.
+pub fn run(args: SweepArgs) -> Result<bool> {
+    if !(args.clock_mhz.is_finite() && args.clock_mhz > 0.0) {
+        anyhow::bail!("--clock-mhz {}: must be a positive number", args.clock_mhz);
+    }
+    let names = if args.scenes.is_empty() {
+        vec![args.scene.clone()]
+    } else {
+        args.scenes.clone()
+    };
+    let overrides = Overrides {
+        size: args.size.map(|s| (s.width, s.height)),
+        ..Overrides::default()
+    };
+    let scenes = names
+        .iter()
+        .map(|n| scenes::load_with(n, overrides).with_context(|| format!("--scene {n}")))
+        .collect::<Result<Vec<_>>>()?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("--out {}", args.out.display()))?;
+    let mut grid = Grid::full();
+    if !args.depths.is_empty() {
+        grid.depths = args.depths.clone();
+    }
+    let clock_hz = args.clock_mhz * 1e6;
+    let options = ConfirmOptions {
+        sample: args.sample,
+        seed: args.seed,
+        cosim: CosimOptions {
+            fault: args.fault,
+            timeout_cycles: args.timeout_cycles,
+            keep_frames: false,
+        },
+    };
+    let pool = args.threads.pool()?;
+    let mut stdout = std::io::stdout().lock();
+    let mut sweeps = Vec::new();
+    let mut all_confirmed = true;
+    for (name, scene) in names.iter().zip(&scenes) {
+        let reference = {
+            let bar = progress_bar(1, "reference", "{msg}")?;
+            bar.set_message(format!("{name}: f64, depth {MAX_DEPTH}"));
+            let frame = pool.install(|| sweep::reference_frame(name, scene))?;
+            bar.finish_and_clear();
+            frame
+        };
+        let configs = grid.configs().len() as u64;
+        let bar = progress_bar(configs, "sweep    ", "{pos}/{len} configurations ({eta})")?;
+        let mut s = pool.install(|| {
+            sweep::sweep_scene(name, scene, &reference, &grid, clock_hz, &|n| bar.inc(n))
+        });
+        bar.finish_and_clear();
+        if !args.no_rtl {
+            let bar = progress_bar(0, "RTL      ", "{pos}/{len} pixels ({eta})")?;
+            pool.install(|| {
+                sweep::confirm(&mut s, &options, &|n| bar.set_length(n), &|n| bar.inc(n))
+            })?;
+            bar.finish_and_clear();
+        }
+        all_confirmed &= s.rows.iter().all(|r| r.rtl_confirmed != Some(false));
+        print_scene(&mut stdout, &s)?;
+        let svg = args.out.join(format!("chart-{}.svg", file_stem(name)));
+        let png = svg.with_extension("png");
+        chart::write(&s, &svg, &png)?;
+        writeln!(stdout, "wrote {} and {}", svg.display(), png.display())?;
+        sweeps.push(s);
+    }
+    let rows: Vec<Row> = sweeps.iter().flat_map(|s| s.rows.iter().cloned()).collect();
+    let csv = args.out.join("sweep.csv");
+    let json = args.out.join("sweep.json");
+    sweep::write_csv(&csv, &rows)?;
+    sweep::write_json(&json, &sweeps, clock_hz)?;
+    writeln!(stdout, "wrote {} and {}", csv.display(), json.display())?;
+    if !all_confirmed {
+        writeln!(
+            stdout,
+            "FAILED: the RTL disagreed with the micro-op model on a front configuration"
+        )?;
+    }
+    Ok(all_confirmed)
+}
+
+/// A scene name as a file name: the file stem of a path, else the name.
+fn file_stem(name: &str) -> String {
+    std::path::Path::new(name)
+        .file_stem()
+        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned())
+}
+
+/// The scene's front and its thesis configuration, as a table.
+fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
+    let (w, h) = (s.scene.camera.width, s.scene.camera.height);
+    writeln!(
+        out,
+        "{} {w}x{h}: {} configuration{} run, {} refused by the scene (a speed-up's precondition)",
+        s.name,
+        s.rows.len(),
+        plural(s.rows.len() as u64),
+        s.skipped.len()
+    )?;
+    writeln!(
+        out,
+        "| depth | recip | sqrt | speed-ups | cycles/pixel | frames/s | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    let thesis = s.thesis();
+    let mut shown: Vec<&Row> = s.rows.iter().filter(|r| r.pareto).collect();
+    shown.sort_by_key(|r| r.frame_cycles);
+    if let Some(t) = thesis.filter(|t| !t.pareto) {
+        shown.push(t);
+    }
+    for r in shown {
+        let rtl = match r.rtl_confirmed {
+            Some(true) => "confirmed",
+            Some(false) => "FAILED",
+            None => "-",
+        };
+        let mark = if Some(r) == thesis { " (thesis)" } else { "" };
+        writeln!(
+            out,
+            "| {} | {} | {} | {}{mark} | {:.2} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
+            r.depth,
+            r.recip,
+            r.sqrt,
+            sweep::speedup_label(r.config().speedups),
+            r.cycles_per_pixel,
+            r.fps,
+            r.mean_abs_error,
+            r.max_abs_error,
+            100.0 * r.share_pixels_over_half,
+            r.max_ulps,
+            if r.pareto { "yes" } else { "no" },
+            r.rtl_pixels.map_or("-".into(), |n| n.to_string()),
+        )?;
+    }
+    Ok(())
+}
