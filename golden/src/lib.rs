@@ -25,5 +25,6 @@ pub mod micro;
 pub mod pixel;
 pub mod reference;
 pub mod scene;
+pub mod stability;
 pub mod trace;
 pub mod window;

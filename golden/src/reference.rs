@@ -198,16 +198,7 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
         return DVec3::ZERO;
     };
     let p = o + t * d;
-    let (n, m) = match obj {
-        Object::Sphere(i) => {
-            let s = &scene.spheres[i];
-            ((p - dvec(s.center)).normalize_or_zero(), &s.material)
-        }
-        Object::Plane(j) => {
-            let pl = &scene.planes[j];
-            (dvec(pl.normal()), &pl.material)
-        }
-    };
+    let (n, m) = surface(scene, obj, p);
     let r = d - 2.0 * d.dot(n) * n;
     let light_color = dvec(scene.light.color);
     let mut color = DVec3::ZERO;
@@ -232,4 +223,46 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
         color += kr * shade(scene, p, r, Some(obj), depth + 1);
     }
     color
+}
+
+/// The unit normal and the material of `obj` at its surface point `p`.
+fn surface(scene: &Scene, obj: Object, p: DVec3) -> (DVec3, &crate::scene::Material) {
+    match obj {
+        Object::Sphere(i) => {
+            let s = &scene.spheres[i];
+            ((p - dvec(s.center)).normalize_or_zero(), &s.material)
+        }
+        Object::Plane(j) => {
+            let pl = &scene.planes[j];
+            (dvec(pl.normal()), &pl.material)
+        }
+    }
+}
+
+/// The discrete events along the path of pixel (px, py), level by level as
+/// [`render_pixel`] recurses: the object each ray hits and whether light
+/// reaches that point (the light visible and `n·l > 0`, the gate of both
+/// terms); ends at a miss or where the recursion stops. The colour is
+/// continuous in the primary direction wherever this does not change, so
+/// neighbouring pixels with different paths mark an edge: a silhouette, a
+/// shadow edge or terminator, or a reflection of one
+/// (`golden::stability::edge_mask`).
+pub fn path_events(scene: &Scene, px: u32, py: u32) -> Vec<(Object, bool)> {
+    let (mut o, mut d) = (dvec(scene.camera.eye), primary_direction(scene, px, py));
+    let mut from = None;
+    let mut events = Vec::new();
+    for depth in 0..scene.render.max_depth {
+        let Some((obj, t)) = nearest_hit(scene, o, d, from) else {
+            break;
+        };
+        let p = o + t * d;
+        let (n, m) = surface(scene, obj, p);
+        let l = (dvec(scene.light.position) - p).normalize_or_zero();
+        events.push((obj, light_visible(scene, p, obj) && n.dot(l) > 0.0));
+        if m.reflection <= 0.0 || depth + 1 >= scene.render.max_depth {
+            break;
+        }
+        (o, d, from) = (p, d - 2.0 * d.dot(n) * n, Some(obj));
+    }
+    events
 }

@@ -197,6 +197,23 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         (self.regs.valid[a] == Lanes::XYZ).then(|| [lane(0), lane(1), lane(2)])
     }
 
+    /// Overwrites all lanes of register `code` with `v`, outside the
+    /// program: no cycle, no trace event (the perturbation study's hook,
+    /// [`Processor::render_pixel_nudged`](super::Processor::render_pixel_nudged);
+    /// the RTL has no such path). Returns the value as the controller's
+    /// branches would see it.
+    pub(crate) fn poke(&mut self, code: Reg, v: Vec3f) -> Written {
+        let a = self.decode(code, Location::caller());
+        for (i, x) in v.iter().enumerate() {
+            self.regs.lanes[i][a.0 as usize] = x.to_bits();
+        }
+        self.regs.valid[a.0 as usize] = Lanes::XYZ;
+        Written {
+            value: v,
+            mask: Lanes::XYZ,
+        }
+    }
+
     /// The end of every instruction that writes the register file: count
     /// its cycles, write lanes `mask` of `y` to `dst` (emitting the event),
     /// and hand the written value to the controller's branches.

@@ -130,6 +130,38 @@ impl Processor {
     where
         F: FnMut(&TraceEvent, &'static Location<'static>),
     {
+        let mut program = self.program(px, py, trace);
+        let rgb = program::rgb_of(program.run());
+        let ops = program.core.stats;
+        PixelResult {
+            rgb,
+            cycles: ops.instruction_cycles() + FIXED_CYCLES,
+            ops,
+        }
+    }
+}
+
+impl Processor {
+    /// The colour of pixel (px, py) with its primary direction replaced by
+    /// `nudge(direction)` (the perturbation study, `golden::stability`): a
+    /// model-only path, untraced, not what the RTL computes.
+    ///
+    /// Panics if (px, py) is outside the image.
+    pub fn render_pixel_nudged(
+        &self,
+        px: u32,
+        py: u32,
+        nudge: impl FnOnce(crate::scene::Vec3f) -> crate::scene::Vec3f,
+    ) -> [f32; 3] {
+        let mut program = self.program(px, py, |_, _| {});
+        program::rgb_of(program.run_nudged(nudge))
+    }
+
+    /// The controller, ready to run pixel (px, py) on a fresh core.
+    fn program<F>(&self, px: u32, py: u32, trace: F) -> program::Program<'_, F>
+    where
+        F: FnMut(&TraceEvent, &'static Location<'static>),
+    {
         assert!(
             px < self.width && py < self.height,
             "pixel ({px}, {py}) outside {}x{}",
@@ -145,14 +177,7 @@ impl Processor {
             self.fault,
             trace,
         );
-        let mut program = program::Program::new(core, &self.config);
-        let rgb = program::rgb_of(program.run());
-        let ops = program.core.stats;
-        PixelResult {
-            rgb,
-            cycles: ops.instruction_cycles() + FIXED_CYCLES,
-            ops,
-        }
+        program::Program::new(core, &self.config)
     }
 }
 

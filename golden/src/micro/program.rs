@@ -128,6 +128,26 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// returns the colour in STK0_COL.
     pub fn run(&mut self) -> [u32; 3] {
         self.primary_ray();
+        self.trace_primary()
+    }
+
+    /// [`Program::run`] with the primary direction replaced by
+    /// `nudge(direction)` once it is computed (the perturbation study: a
+    /// model-only path, not an RTL one; the replacement costs no cycle).
+    pub fn run_nudged(&mut self, nudge: impl FnOnce(Vec3f) -> Vec3f) -> [u32; 3] {
+        self.primary_ray();
+        let d = self
+            .core
+            .peek(isa::stack(0, isa::RayField::D))
+            .expect("the primary direction is written");
+        let w = self.core.poke(Reg::CUR_D, nudge(rgb_of(d)));
+        self.dir = DirFlags::of(&w);
+        self.trace_primary()
+    }
+
+    /// The rest of the pixel after the primary ray: the nearest hits, the
+    /// shading, the unwinding; returns STK0_COL.
+    fn trace_primary(&mut self) -> [u32; 3] {
         let mut from = None;
         while let Some(obj) = self.nearest_hit(Reg::CUR_O, Reg::CUR_D, from) {
             let push = self.bits(obj).reflective && self.core.sp + 1 < self.cfg.max_depth;
