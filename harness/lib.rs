@@ -18,6 +18,7 @@
 //!   golden model and of the RTL.
 //! - [`trace_diff`]: two trace files through the comparison engine.
 //! - [`rtl_source`]: the Verilog line that decodes each controller state.
+//! - [`tune`]: the cheapest configuration that meets an error target.
 
 pub mod artefacts;
 mod bridge;
@@ -32,6 +33,7 @@ pub mod rtl_source;
 pub mod scenes;
 pub mod trace_diff;
 pub mod trace_files;
+pub mod tune;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

@@ -36,14 +36,7 @@ pub fn with_methods(
     let mut render = scene.render;
     render.recip = recip;
     render.sqrt = sqrt;
-    Scene::new(
-        origin,
-        scene.camera.clone(),
-        scene.light.clone(),
-        scene.spheres.clone(),
-        scene.planes.clone(),
-        render,
-    )
+    scene.with_render(render, origin)
 }
 
 /// What a command line may change in a scene.
