@@ -22,6 +22,7 @@
 //! - [`wave`]: the waveform window: one pixel re-run on the model verilated
 //!   with `--trace-fst`, K cycles either side of a divergence, as an FST file
 //!   with a GTKWave save file and state-name filter.
+//! - [`tune`]: the cheapest configuration that meets an error target.
 
 pub mod artefacts;
 mod bridge;
@@ -43,6 +44,7 @@ pub mod wave;
 // so that rustc links the static libraries libz-sys and lz4-sys build.
 use libz_sys as _;
 use lz4_sys as _;
+pub mod tune;
 
 /// The Verilator that built the models (`verilator --version`).
 pub const VERILATOR_VERSION: &str = env!("RTCOSIM_VERILATOR_VERSION");

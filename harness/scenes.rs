@@ -2,7 +2,7 @@
 //! overrides every command takes (image size, float methods).
 
 use golden::fp::Method;
-use golden::scene::{RenderSettings, Scene, SceneError};
+use golden::scene::{Scene, SceneError};
 use std::path::Path;
 
 /// Why a named scene cannot be had.
@@ -36,24 +36,7 @@ pub fn with_methods(
     let mut render = scene.render;
     render.recip = recip;
     render.sqrt = sqrt;
-    with_render(scene, render, origin)
-}
-
-/// `scene` with other render settings, validated again (a speed-up whose
-/// precondition the scene breaks is refused; `origin` names the request).
-pub fn with_render(
-    scene: &Scene,
-    render: RenderSettings,
-    origin: &str,
-) -> Result<Scene, SceneError> {
-    Scene::new(
-        origin,
-        scene.camera.clone(),
-        scene.light.clone(),
-        scene.spheres.clone(),
-        scene.planes.clone(),
-        render,
-    )
+    scene.with_render(render, origin)
 }
 
 /// What a command line may change in a scene.

@@ -14,6 +14,8 @@
 //! ports and protocol (they also pass on a placeholder); the others need the
 //! real design. Lint lives in rtl_lint.rs.
 
+mod common;
+
 use golden::fp::{Method, UlpDistance};
 use golden::micro::isa::{self, state};
 use golden::scene::Scene;
@@ -102,6 +104,71 @@ fn parallel_plane_frame_agrees() {
 #[test]
 fn box_room_frame_agrees() {
     frame_agrees("box_room", 40, 30);
+}
+
+/// The weight cutoff, co-simulated: the mirror scene with a cutoff that
+/// refuses its two deepest levels' rays (tests/common: every weight is a
+/// power of 0.8, and 0.8^3 < 0.6 < 0.8^2) agrees with golden in every event,
+/// colour and cycle, with both method pairs; and it changes the frame
+/// against the same scene without the cutoff, measured by golden alone:
+/// fewer cycles, some colours.
+#[test]
+fn mirror_with_a_weight_cutoff_agrees() {
+    let cut = common::mirror_with_cutoff();
+    let off = builtin("mirror", 80, 60);
+    assert_eq!(
+        (
+            cut.camera.width,
+            cut.camera.height,
+            off.render.weight_cutoff
+        ),
+        (80, 60, 0.0)
+    );
+    for (recip, sqrt) in METHODS {
+        let scene = with_methods(&cut, recip, sqrt);
+        assert_agrees(&cosim_all(&scene, Window::full(&scene)), 80 * 60);
+    }
+    let (f_cut, s_cut) = golden::micro::render(&cut, &|_| {});
+    let (f_off, s_off) = golden::micro::render(&off, &|_| {});
+    assert!(
+        s_cut.cycles < s_off.cycles,
+        "cycles with the cutoff {} vs without {}",
+        s_cut.cycles,
+        s_off.cycles
+    );
+    let diff = f_cut.compare(&f_off).expect("one size");
+    let changed = diff.share_over(0.0);
+    assert!(changed > 0.0, "the cutoff changed no colour");
+    println!(
+        "mirror 80x60, cutoff {}: {:.1} against {:.1} cycles/pixel; {:.2}% of channels change, largest by {:.3}/255",
+        common::MIRROR_CUTOFF,
+        s_cut.mean_cycles(),
+        s_off.mean_cycles(),
+        100.0 * changed,
+        diff.max_abs_diff
+    );
+}
+
+/// The cutoff where reflection values differ: the mirror scene with a dull
+/// back wall (kr 0.25) and a cutoff of 0.5 refuses every ray the wall would
+/// reflect (weight at most 0.25) and the fourth bounce between the spheres
+/// and the floor (0.8^4 < 0.5), but keeps their first three: per object,
+/// not a depth limit. The RTL agrees, and the cutoff changed the frame.
+#[test]
+fn a_per_object_weight_cutoff_agrees() {
+    let base = builtin("mirror", 80, 60);
+    // with_render validates the whole scene again, the changed wall too.
+    let mut dull = base.clone();
+    dull.planes[1].material.reflection = 0.25;
+    let render = golden::scene::RenderSettings {
+        weight_cutoff: 0.5,
+        ..base.render
+    };
+    let scene = dull.with_render(render, "dull wall").expect("valid");
+    assert_agrees(&cosim_all(&scene, Window::full(&scene)), 80 * 60);
+    let (with, _) = golden::micro::render(&scene, &|_| {});
+    let (without, _) = golden::micro::render(&dull, &|_| {});
+    assert_ne!(with.pixels, without.pixels, "the cutoff refused nothing");
 }
 
 #[test]

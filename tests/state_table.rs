@@ -156,9 +156,15 @@ fn every_golden_event_comes_from_where_the_table_says() {
     let mut wrong: BTreeMap<(String, String), FirstSeen> = BTreeMap::new();
     let mut fn_of_line: HashMap<u32, String> = HashMap::new();
     let mut events = 0u64;
-    for name in Scene::builtin_names() {
-        let scene = reduced(name);
-        let proc = Processor::new(&scene);
+    // The builtins, and the mirror scene with a weight cutoff that refuses
+    // its deepest reflections (CUT_W, CUT_CMP run only with a cutoff).
+    let mut scenes: Vec<(&str, Scene)> = Scene::builtin_names()
+        .iter()
+        .map(|&name| (name, reduced(name)))
+        .collect();
+    scenes.push(("mirror with a cutoff", common::mirror_with_cutoff()));
+    for (name, scene) in &scenes {
+        let proc = Processor::new(scene);
         for y in 0..scene.camera.height {
             for x in 0..scene.camera.width {
                 proc.render_pixel(x, y, |e, at| {
@@ -181,7 +187,7 @@ fn every_golden_event_comes_from_where_the_table_says() {
                     } else {
                         wrong
                             .entry((state, f))
-                            .or_insert_with(|| (format!("{PROGRAM}:{}", at.line()), *name, (x, y)));
+                            .or_insert_with(|| (format!("{PROGRAM}:{}", at.line()), name, (x, y)));
                     }
                 });
             }

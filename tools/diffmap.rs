@@ -158,7 +158,8 @@ struct Side<'a> {
 /// A side ready to run: a frame read from its file, or a model and its scene.
 enum Input {
     File(PathBuf, Frame),
-    Model(Renderer, Scene),
+    /// Boxed: a scene is far larger than a file side.
+    Model(Renderer, Box<Scene>),
 }
 
 impl Input {
@@ -195,7 +196,7 @@ impl Side<'_> {
                 let mut args = args.clone();
                 args.recip = self.recip.or(args.recip);
                 args.sqrt = self.sqrt.or(args.sqrt);
-                Ok(Input::Model(*renderer, args.load()?))
+                Ok(Input::Model(*renderer, Box::new(args.load()?)))
             }
             Source::File(path) => {
                 if self.recip.is_some() || self.sqrt.is_some() {

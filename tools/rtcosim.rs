@@ -14,6 +14,7 @@ mod render;
 mod sweep;
 mod trace_diff;
 mod trace_dump;
+mod tune;
 mod ui;
 mod wave;
 
@@ -64,6 +65,12 @@ enum Command {
     /// Compare two trace files and name the first divergent state in the
     /// Verilog and the Rust (the same as the `trace-diff` binary).
     TraceDiff(trace_diff::TraceDiffArgs),
+    /// Find the cheapest configuration (stack depth, float methods, weight
+    /// cutoff, with every speed-up whose precondition holds) whose frame is
+    /// within --max-error of the f64 reference, say why, and print its RTL
+    /// build parameters. Exits 0 with an answer, 1 if nothing meets the
+    /// target, 2 on an error (a bad --max-error is one).
+    Tune(tune::TuneArgs),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +83,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run(args),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),
         Command::TraceDiff(args) => trace_diff::run(args),
+        Command::Tune(args) => tune::run(args),
     })
 }
 

@@ -327,6 +327,15 @@ impl FrameDiff {
         self.sorted.len()
     }
 
+    /// The mean channel difference (0..255 scale); infinite if any is. 0
+    /// for empty frames.
+    pub fn mean(&self) -> f64 {
+        if self.sorted.is_empty() {
+            return 0.0;
+        }
+        self.sorted.iter().sum::<f64>() / self.sorted.len() as f64
+    }
+
     /// Share (0..=1) of channel values that differ by more than `threshold`
     /// (0..255 scale). 0 for empty frames.
     pub fn share_over(&self, threshold: f64) -> f64 {

@@ -34,7 +34,11 @@
 //!   as in the fast-plane hack of thesis 3.10.2 (its 3.3.2 intersects both
 //!   sides).
 //! - `shade(ray, depth) = local + kr·shade(reflected ray, depth + 1)` when
-//!   `kr > 0` and `depth + 1 < max_depth` (the primary ray has depth 0).
+//!   `kr > 0` and `depth + 1 < max_depth` (the primary ray has depth 0),
+//!   and the reflected ray's weight `w·kr` (w: the product of the
+//!   reflection values above it, 1 for the primary ray; f64) is not below
+//!   the scene's weight cutoff: a ray with `w·kr < weight_cutoff` is not
+//!   spawned (thesis 3.8, end; 0 = off).
 
 use crate::frame::Frame;
 use crate::scene::{dvec, Scene, Vec3f};
@@ -55,7 +59,7 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
 /// [`render_pixel`] with the camera rotation computed once per frame.
 fn pixel_with(scene: &Scene, rotation: &DMat3, px: u32, py: u32) -> [f64; 3] {
     let dir = rotated_direction(scene, rotation, px, py);
-    shade(scene, dvec(scene.camera.eye), dir, None, 0).to_array()
+    shade(scene, dvec(scene.camera.eye), dir, None, 0, 1.0).to_array()
 }
 
 /// Renders the whole frame, rows in parallel on the current rayon pool.
@@ -193,7 +197,15 @@ pub fn light_visible(scene: &Scene, p: DVec3, on: Object) -> bool {
     !for_each_hit(scene, p, l, Some(on), |_, t| t < dist)
 }
 
-fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) -> DVec3 {
+/// `weight`: the product of the reflection values of the ray's ancestors.
+fn shade(
+    scene: &Scene,
+    o: DVec3,
+    d: DVec3,
+    from: Option<Object>,
+    depth: u32,
+    weight: f64,
+) -> DVec3 {
     let Some((obj, t)) = nearest_hit(scene, o, d, from) else {
         return DVec3::ZERO;
     };
@@ -219,8 +231,12 @@ fn shade(scene: &Scene, o: DVec3, d: DVec3, from: Option<Object>, depth: u32) ->
         color = diffuse * (dvec(m.color) * light_color) + specular * light_color;
     }
     let kr = f64::from(m.reflection);
-    if kr > 0.0 && depth + 1 < scene.render.max_depth {
-        color += kr * shade(scene, p, r, Some(obj), depth + 1);
+    let child = weight * kr;
+    if kr > 0.0
+        && depth + 1 < scene.render.max_depth
+        && child >= f64::from(scene.render.weight_cutoff)
+    {
+        color += kr * shade(scene, p, r, Some(obj), depth + 1, child);
     }
     color
 }

@@ -690,6 +690,7 @@ fn random_scenes_keep_the_invariants_and_follow_the_reference() -> TestResult {
             speedups: Speedups::default(),
             recip: method,
             sqrt: method,
+            weight_cutoff: 0.0,
         };
         let build = |settings: RenderSettings| {
             Scene::new(

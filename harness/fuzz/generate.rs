@@ -7,7 +7,7 @@
 //!
 //! What it varies: 0 to 8 spheres and 0 to 6 planes (so, now and then, no
 //! object at all), materials, colours, the light and the camera, the stack
-//! depth, both float methods, each speed-up. Magnitudes span the whole
+//! depth, both float methods, each speed-up, the weight cutoff. Magnitudes span the whole
 //! accepted range: a scene has a scale anywhere from 2^-58 to 2^58 (most
 //! often a familiar one), and any value may instead sit exactly on a limit
 //! of `golden::scene` or just past it. A scene with a value past a limit is
@@ -262,6 +262,29 @@ pub fn scene(seed: u64, index: u64) -> Generated {
         "[render]\nmax_depth = {depth}\nbounding_box = {bounding_box}\nfast_plane = {fast_plane}\n\
          shadow_shortcut = {shadow_shortcut}\nrecip = \"{recip}\"\nsqrt = \"{sqrt}\""
     );
+    // The weight cutoff (drawn last, so the scenes of a seed without it
+    // are the scenes they were): in a quarter of the scenes, mostly where
+    // it refuses some reflections, now and then exactly on a limit (0, 1)
+    // or just past one.
+    if g.chance(0.25) {
+        let cutoff = if g.chance(0.01) {
+            g.past = true;
+            if g.chance(0.5) {
+                -f64::from(f32::MIN_POSITIVE)
+            } else {
+                f32_up(1.0)
+            }
+        } else if g.chance(0.05) {
+            if g.chance(0.5) {
+                0.0
+            } else {
+                1.0
+            }
+        } else {
+            f64::from(g.rng.random_range(0.0f32..0.7))
+        };
+        let _ = writeln!(t, "weight_cutoff = {}", num(cutoff));
+    }
     Generated {
         seed,
         index,

@@ -97,7 +97,6 @@ impl Config {
     pub fn apply(&self, scene: &Scene, origin: &str) -> Result<Scene, SceneError> {
         // The update keeps every setting this type does not name (a future
         // one, such as a weight cutoff, until it joins the grid).
-        #[allow(clippy::needless_update)]
         let render = RenderSettings {
             max_depth: self.depth,
             speedups: self.speedups,
@@ -105,7 +104,7 @@ impl Config {
             sqrt: self.sqrt,
             ..scene.render
         };
-        crate::scenes::with_render(scene, render, origin)
+        scene.with_render(render, origin)
     }
 
     /// A short name: `depth 4, recip exact, sqrt fast, fp+ss`.

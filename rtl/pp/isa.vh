@@ -77,16 +77,19 @@
 `define ISA_DIM_SPH_COUNT 8
 `define ISA_DIM_SPH_STRIDE 4
 `define ISA_REG_SPH0_C 0       // centre
-`define ISA_REG_SPH0_R 1       // <r*r, 1/r, 0> (scene.derived: radius_sq, inv_radius)
+`define ISA_REG_SPH0_R 1       // <r*r, 1/r, c> (scene.derived: radius_sq, inv_radius; c = render.weight_cutoff)
 `define ISA_REG_SPH0_COL 2     // colour
 `define ISA_REG_SPH0_MAT 3     // <kd, ks, kr>: diffuse, specular, reflection
 // Planes p = 0..5 at 32 + 4p.
 `define ISA_DIM_PLN_COUNT 6
 `define ISA_DIM_PLN_STRIDE 4
 `define ISA_REG_PLN0_N 32      // normal: facing * unit(axis), +0 elsewhere
-`define ISA_REG_PLN0_Q 33      // <facing * offset, 0, 0>: n.p = q on the plane
+`define ISA_REG_PLN0_Q 33      // <facing * offset, 0, c>: n.p = q on the plane; c = render.weight_cutoff
 `define ISA_REG_PLN0_COL 34    // colour
 `define ISA_REG_PLN0_MAT 35    // <kd, ks, kr>
+// Lane z of every object's SPHk_R / PLNj_Q (no instruction reads it
+// otherwise) holds the scene's weight cutoff c: CUT_CMP compares the child
+// weight with the hit object's copy, so the cutoff needs no register address.
 // Light and camera.
 `define ISA_REG_LIGHT_POS 56   // light position
 `define ISA_REG_LIGHT_COL 57   // light colour
@@ -157,6 +160,7 @@
 `define ISA_DIM_CFG_BBOX_LSB 12      // 1 bit: bounding box test (thesis 3.10.1)
 `define ISA_DIM_CFG_FAST_PLANE_LSB 13  // 1 bit: fast plane test (3.10.2)
 `define ISA_DIM_CFG_SHORTCUT_LSB 14  // 1 bit: shadow shortcut (3.10.3)
+`define ISA_DIM_CFG_CUTOFF_LSB 15    // 1 bit: weight cutoff (3.8, end): CUT_W, CUT_CMP before a push
 `define ISA_DIM_CFG_ROTATE_LSB 16    // ISA_DIM_ROT_COUNT bits: rotate the primary ray about x, y, z
 `define ISA_DIM_CFG_SPH_BITS_LSB 32  // ISA_DIM_CFG_MAT_BITS per sphere k at + MAT_BITS * k
 `define ISA_DIM_CFG_PLN_BITS_LSB 56  // ISA_DIM_CFG_MAT_BITS per plane j at + MAT_BITS * j
@@ -212,6 +216,10 @@
 `define ISA_ST_HIT_CMP 47          // u - u_best > 0: nearer than the best so far
 `define ISA_ST_HIT_KEEP 48         // u_best = u
 `define ISA_ST_SHD_DIST 49         // shadow ray: dist + u > 0: blocker before the light
+// Weight cutoff (with ISA_DIM_CFG_CUTOFF_LSB set, before shading a hit that
+// would push a reflected ray): no child whose weight w * kr < c.
+`define ISA_ST_CUT_W 50            // U.z = CUR_W.z * kr: the child's weight (SH_CHILD_W's product)
+`define ISA_ST_CUT_CMP 51          // G.z = U.z - c (hit object's R/Q lane z) < 0: no child
 // Shading.
 `define ISA_ST_SH_OFFSET 60        // t * d = -(d * u_best)
 `define ISA_ST_SH_POINT 61         // p = o + t * d

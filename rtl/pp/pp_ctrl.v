@@ -133,6 +133,7 @@ module pp_ctrl (
     wire                 bbox      = cfg[`ISA_DIM_CFG_BBOX_LSB];
     wire                 fast      = cfg[`ISA_DIM_CFG_FAST_PLANE_LSB];
     wire                 shortcut  = cfg[`ISA_DIM_CFG_SHORTCUT_LSB];
+    wire                 cutoff    = cfg[`ISA_DIM_CFG_CUTOFF_LSB];
     wire [ROT_N-1:0]     rotate    = cfg[`ISA_DIM_CFG_ROTATE_LSB +: ROT_N];
     wire [SPH_N*MB-1:0]  sph_bits  = cfg[`ISA_DIM_CFG_SPH_BITS_LSB +: SPH_N*MB];
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
@@ -141,7 +142,6 @@ module pp_ctrl (
     // The word's spare bits.
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
                         cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_ROTATE_LSB + ROT_N],
-                        cfg[`ISA_DIM_CFG_ROTATE_LSB - 1:`ISA_DIM_CFG_SHORTCUT_LSB + 1],
                         cfg[`ISA_DIM_CFG_DEPTH_LSB - 1:`ISA_DIM_CFG_PLANES_LSB + NPW]};
 
     // ------------------------------------------------------------------------
@@ -163,6 +163,7 @@ module pp_ctrl (
     reg             obj_kind_q, obj_kind_d;   // the object being shaded (the last hit)
     reg [OW-1:0]    obj_idx_q, obj_idx_d;
     reg             push_q, push_d;           // its shading pushes a reflected ray
+    reg             cut_q, cut_d;             // the weight cutoff refused the hit's child (CUT_CMP)
     reg             diff_q, diff_d;           // shade: the diffuse term is written
     reg             spec_q, spec_d;           // shade: the specular term is written
     reg [STK_N-1:0] col_q, col_d;             // the levels whose colour is written
@@ -187,6 +188,7 @@ module pp_ctrl (
             obj_kind_q  <= K_SPH;
             obj_idx_q   <= {OW{1'b0}};
             push_q      <= 1'b0;
+            cut_q       <= 1'b0;
             diff_q      <= 1'b0;
             spec_q      <= 1'b0;
             col_q       <= {STK_N{1'b0}};
@@ -211,6 +213,7 @@ module pp_ctrl (
             obj_kind_q  <= obj_kind_d;
             obj_idx_q   <= obj_idx_d;
             push_q      <= push_d;
+            cut_q       <= cut_d;
             diff_q      <= diff_d;
             spec_q      <= spec_d;
             col_q       <= col_d;
@@ -365,9 +368,34 @@ module pp_ctrl (
 
     // run: shading the nearest hit pushes its reflected ray if the object
     // is reflective and the stack has a level left.
+    // With the weight cutoff, cut() first (CUT_W, CUT_CMP) where a push
+    // would follow, and no push if it refused (cut_q).
     wire [MB-1:0] best_bits = bits(best_kind_q, best_idx_q, sph_bits, pln_bits);
-    wire          run_push  = best_bits[MAT_REFLECTIVE] && ({1'b0, sp_q} + 1'b1 < max_depth);
+    wire          run_push  = best_bits[MAT_REFLECTIVE] && ({1'b0, sp_q} + 1'b1 < max_depth)
+                              && !(cutoff && cut_q);
     wire          unused_best_terms = best_bits[MAT_DIFFUSE] ^ best_bits[MAT_SPECULAR];
+
+    // run: whether a search that ends with object (kind, idx) as its
+    // nearest hit goes to cut() before shading: the cutoff is on, the
+    // object reflective and the stack has a level left.
+    function cut_first(input on, input kind, input [OW-1:0] idx, input [SPH_N*MB-1:0] sph,
+                       input [PLN_N*MB-1:0] pln, input [SPW-1:0] level, input [DW-1:0] depth);
+        reg [MB-1:0] b;
+        begin
+            b = bits(kind, idx, sph, pln);
+            cut_first = on && b[MAT_REFLECTIVE] && ({1'b0, level} + 1'b1 < depth);
+        end
+    endfunction
+    // The nearest hit so far, and the object under test (which becomes the
+    // nearest hit in the cycle that decides: offer's first hit, HIT_KEEP).
+    wire cut_best = cut_first(cutoff, best_kind_q, best_idx_q, sph_bits, pln_bits, sp_q, max_depth);
+    wire cut_this = cut_first(cutoff, kind_q, idx_q, sph_bits, pln_bits, sp_q, max_depth);
+    // cut(): the hit object's kr and its copy of the cutoff (lane z of its
+    // R / Q register).
+    wire [RW-1:0] best_mat = best_kind_q == K_SPH ? sphere(best_idx_q, `ISA_REG_SPH0_MAT)
+                                                  : plane(best_idx_q, `ISA_REG_PLN0_MAT);
+    wire [RW-1:0] best_cut = best_kind_q == K_SPH ? sphere(best_idx_q, `ISA_REG_SPH0_R)
+                                                  : plane(best_idx_q, `ISA_REG_PLN0_Q);
 
     // unwind: skip the uncoloured levels above the highest coloured one at
     // or below `top` (their `if` issues nothing), then one POP per level
@@ -446,8 +474,8 @@ module pp_ctrl (
     // shadowed returns false, nearest_hit its hit (shade it) or none.
     function [JW-1:0] nearest_hit_next(input [JW-1:0] stay_j, input box, input [OW:0] sph,
                                        input leaving_spheres, input [OW:0] pln, input ctx,
-                                       input found, input shortcut_on, input [JW-1:0] clear_j,
-                                       input [JW-1:0] unwind_j);
+                                       input found, input shortcut_on, input cut,
+                                       input [JW-1:0] clear_j, input [JW-1:0] unwind_j);
         begin
             nearest_hit_next = stay_j;
             if (sph[OW] && box)
@@ -467,7 +495,7 @@ module pp_ctrl (
             else if (ctx == C_SHD)
                 nearest_hit_next = clear_j;
             else if (found)
-                nearest_hit_next[J_ST +: SW] = `ISA_ST_SH_OFFSET;
+                nearest_hit_next[J_ST +: SW] = cut ? `ISA_ST_CUT_W : `ISA_ST_SH_OFFSET;
             else
                 nearest_hit_next = unwind_j;
         end
@@ -480,15 +508,18 @@ module pp_ctrl (
 
     // The search starts (nearest_hit, shadowed from the top).
     wire [JW-1:0] nearest_hit_start  = nearest_hit_next(stay, bbox, sph_first, 1'b1, pln_first, C_HIT,
-                                                        1'b0, shortcut, shadowed_false, unwind_now);
+                                                        1'b0, shortcut, cut_best, shadowed_false, unwind_now);
     wire [JW-1:0] shadowed_start     = nearest_hit_next(stay, bbox, sph_first, 1'b1, pln_first, C_SHD,
-                                                        1'b0, shortcut, shadowed_false, unwind_now);
+                                                        1'b0, shortcut, cut_best, shadowed_false, unwind_now);
     // The box refuses the ray: the sphere loop is skipped.
     wire [JW-1:0] box_hit_false      = nearest_hit_next(stay, 1'b0, NONE, 1'b1, pln_first, ctx_q,
-                                                        found_q, shortcut, shadowed_false, unwind_now);
+                                                        found_q, shortcut, cut_best, shadowed_false, unwind_now);
     // Past the object under test (the loop's next iteration).
     wire [JW-1:0] nearest_hit_after  = nearest_hit_next(stay, 1'b0, after_sph, in_spheres, after_pln, ctx_q,
-                                                        found_q, shortcut, shadowed_false, unwind_now);
+                                                        found_q, shortcut, cut_best, shadowed_false, unwind_now);
+    // The same after HIT_KEEP, whose object becomes the nearest hit.
+    wire [JW-1:0] nearest_hit_kept   = nearest_hit_next(stay, 1'b0, after_sph, in_spheres, after_pln, ctx_q,
+                                                        found_q, shortcut, cut_this, shadowed_false, unwind_now);
     // offer: the first hit is the best where it was written (the search
     // goes on); a later one is compared (HIT_CMP).
     function [JW-1:0] offer(input found, input [JW-1:0] stay_j, input [JW-1:0] first_j);
@@ -502,7 +533,7 @@ module pp_ctrl (
     endfunction
     wire [JW-1:0] offer_next = offer(found_q, stay,
                                      nearest_hit_next(stay, 1'b0, after_sph, in_spheres, after_pln, ctx_q,
-                                                      1'b1, shortcut, shadowed_false, unwind_now));
+                                                      1'b1, shortcut, cut_this, shadowed_false, unwind_now));
 
     // primary_ray: the next rotation at or after axis `from` that the scene
     // applies, else normalize: the next {rot, st, call}.
@@ -549,6 +580,7 @@ module pp_ctrl (
         obj_kind_d  = obj_kind_q;
         obj_idx_d   = obj_idx_q;
         push_d      = push_q;
+        cut_d       = cut_q;
         diff_d      = diff_q;
         spec_d      = spec_q;
         col_d       = col_q;
@@ -566,6 +598,7 @@ module pp_ctrl (
                 col_d   = {STK_N{1'b0}};
                 excl_d  = 1'b0;
                 push_d  = 1'b0;
+                cut_d   = 1'b0;
                 dsign_d = {LN{1'b0}};
                 dneg_d  = {LN{1'b0}};
                 dpos_d  = {LN{1'b0}};
@@ -825,7 +858,20 @@ module pp_ctrl (
             `ISA_ST_HIT_KEEP: begin
                 op = `ISA_OP_MOV; la_w = T_BEST; la_a = T_U; wmask = M_X;
                 {best_kind_d, best_idx_d} = {kind_q, idx_q};
-                {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_after;
+                {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_kept;
+            end
+
+            // ---- cut: the weight cutoff, before shading a hit that pushes --
+            // U.z = CUR_W.z * kr: the child's weight
+            `ISA_ST_CUT_W: begin
+                op = `ISA_OP_MULZ; la_w = T_U; la_a = `ISA_REG_CUR_W; la_b = best_mat; wmask = M_Z;
+                st_d = `ISA_ST_CUT_CMP;
+            end
+            // G.z = U.z - c < 0: the child is refused (run_push reads cut_q)
+            `ISA_ST_CUT_CMP: begin
+                op = `ISA_OP_SUB; la_w = T_G; la_a = T_U; la_b = best_cut; wmask = M_Z;
+                cut_d = y_neg[2];
+                st_d  = `ISA_ST_SH_OFFSET;
             end
 
             // ---- before_light --------------------------------------------------
@@ -846,6 +892,7 @@ module pp_ctrl (
             `ISA_ST_SH_OFFSET: begin
                 op = `ISA_OP_NMULX; la_w = T_V; la_a = `ISA_REG_CUR_D; la_b = T_BEST;
                 push_d     = run_push;
+                cut_d      = 1'b0;
                 sp_d       = sp_q + {{(SPW - 1){1'b0}}, run_push};
                 obj_kind_d = best_kind_q;
                 obj_idx_d  = best_idx_q;

@@ -42,6 +42,24 @@ pub fn reduced(name: &str) -> Scene {
         .expect("a smaller image of a valid scene is valid")
 }
 
+/// The weight cutoff of [`mirror_with_cutoff`]: every object of the mirror
+/// scene reflects 0.8, so the child weights are 0.8, 0.64, 0.512, 0.4096
+/// (f32 products); 0.6 refuses the last two, the rays of stack levels 3
+/// and 4. (0.45, refusing level 4 alone, costs more cycles than it saves
+/// at 80x60: few rays get that deep, and every push pays two checks.)
+pub const MIRROR_CUTOFF: f32 = 0.6;
+
+/// The mirror scene (reduced) with the weight cutoff [`MIRROR_CUTOFF`].
+pub fn mirror_with_cutoff() -> Scene {
+    let base = reduced("mirror");
+    let render = golden::scene::RenderSettings {
+        weight_cutoff: MIRROR_CUTOFF,
+        ..base.render
+    };
+    base.with_render(render, "mirror with a cutoff")
+        .expect("a cutoff in [0, 1] is valid")
+}
+
 /// Runs a tool that must succeed without a word on stderr (a compiler or a
 /// linter: a warning fails too); `what` names the run in the failure.
 pub fn run_silent(cmd: &mut Command, what: &str) {

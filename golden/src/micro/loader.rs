@@ -22,7 +22,8 @@ const _: () = assert!(dim::CFG_PLANES_LSB + 3 <= dim::CFG_DEPTH_LSB);
 const _: () = assert!(dim::CFG_DEPTH_LSB + 4 <= dim::CFG_BBOX_LSB);
 const _: () = assert!(dim::CFG_BBOX_LSB < dim::CFG_FAST_PLANE_LSB);
 const _: () = assert!(dim::CFG_FAST_PLANE_LSB < dim::CFG_SHORTCUT_LSB);
-const _: () = assert!(dim::CFG_SHORTCUT_LSB < dim::CFG_ROTATE_LSB);
+const _: () = assert!(dim::CFG_SHORTCUT_LSB < dim::CFG_CUTOFF_LSB);
+const _: () = assert!(dim::CFG_CUTOFF_LSB < dim::CFG_ROTATE_LSB);
 const _: () = assert!(dim::CFG_ROTATE_LSB + 3 <= dim::CFG_SPH_BITS_LSB);
 const _: () = assert!(dim::CFG_SPH_BITS_LSB + 3 * MAX_SPHERES <= dim::CFG_PLN_BITS_LSB);
 const _: () = assert!(dim::CFG_PLN_BITS_LSB + 3 * MAX_PLANES <= dim::CFG_PLN_AXIS_LSB);
@@ -70,6 +71,10 @@ pub struct Config {
     /// The fp_recip and fp_sqrt methods (RTL parameters).
     pub recip: Method,
     pub sqrt: Method,
+    /// The weight cutoff is on (render.weight_cutoff > 0): a push is
+    /// preceded by CUT_W and CUT_CMP. The value is in lane z of each
+    /// object's SPHk_R / PLNj_Q register ([`scene_writes`]).
+    pub cutoff: bool,
     /// Rotate the primary ray about axis a (x, y, z): false when the angle's
     /// cos is exactly 1 and its sin exactly 0, so the rotation is skipped.
     pub rotate: [bool; 3],
@@ -90,6 +95,7 @@ impl Config {
             speedups: scene.render.speedups,
             recip: scene.render.recip,
             sqrt: scene.render.sqrt,
+            cutoff: scene.render.cutoff_on(),
             rotate: [0, 1, 2]
                 .map(|a| !(scene.derived.cos[a] == 1.0 && scene.derived.sin[a] == 0.0)),
             sphere_bits: [MaterialBits::default(); MAX_SPHERES],
@@ -125,6 +131,7 @@ impl Config {
             dim::CFG_SHORTCUT_LSB,
             u128::from(self.speedups.shadow_shortcut),
         );
+        put(dim::CFG_CUTOFF_LSB, u128::from(self.cutoff));
         for a in 0..3 {
             put(dim::CFG_ROTATE_LSB + a, u128::from(self.rotate[a]));
         }
@@ -147,13 +154,15 @@ impl Config {
 /// f32 bits). Unused sphere and plane slots are not written.
 pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
     let d = &scene.derived;
+    // Lane z of SPHk_R and PLNj_Q: the weight cutoff (isa.vh).
+    let cut = scene.render.weight_cutoff;
     let mut w: Vec<(Reg, Vec3f)> = Vec::new();
     for (k, s) in scene.spheres.iter().enumerate() {
         let m = &s.material;
         w.push((isa::sphere(k, SphereField::C), s.center));
         w.push((
             isa::sphere(k, SphereField::R),
-            [d.radius_sq[k], d.inv_radius[k], 0.0],
+            [d.radius_sq[k], d.inv_radius[k], cut],
         ));
         w.push((isa::sphere(k, SphereField::Col), m.color));
         w.push((
@@ -166,7 +175,7 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
         // facing is +-1: the product is the offset or its negation, exact.
         let q = if p.facing < 0.0 { -p.offset } else { p.offset };
         w.push((isa::plane(j, PlaneField::N), d.plane_normal[j]));
-        w.push((isa::plane(j, PlaneField::Q), [q, 0.0, 0.0]));
+        w.push((isa::plane(j, PlaneField::Q), [q, 0.0, cut]));
         w.push((isa::plane(j, PlaneField::Col), m.color));
         w.push((
             isa::plane(j, PlaneField::Mat),
@@ -316,6 +325,7 @@ mod tests {
             field(dim::CFG_SHORTCUT_LSB, 1),
             u128::from(s.shadow_shortcut)
         );
+        assert_eq!(field(dim::CFG_CUTOFF_LSB, 1), 0);
         assert_eq!(field(dim::CFG_ROTATE_LSB, 3), 0b001);
         for k in 0..2 {
             assert_eq!(

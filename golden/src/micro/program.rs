@@ -15,7 +15,8 @@
 //! The algorithm is thesis 3.6, iterative with the explicit ray stack: the
 //! primary ray is pushed at level 0; each ray's nearest hit is shaded into
 //! its colour (weighted by the product of its ancestors' reflection values);
-//! a reflective hit below the depth limit pushes the reflected ray; when a
+//! a reflective hit below the depth limit pushes the reflected ray (unless
+//! the weight cutoff refuses it: `Program::cut`); when a
 //! ray does not push, the stack unwinds, adding each ray's colour into its
 //! parent's. Only reflection rays exist, so the ray tree is a list.
 
@@ -150,7 +151,9 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     fn trace_primary(&mut self) -> [u32; 3] {
         let mut from = None;
         while let Some(obj) = self.nearest_hit(Reg::CUR_O, Reg::CUR_D, from) {
-            let push = self.bits(obj).reflective && self.core.sp + 1 < self.cfg.max_depth;
+            let push = self.bits(obj).reflective
+                && self.core.sp + 1 < self.cfg.max_depth
+                && !self.cut(obj);
             if push {
                 self.core.sp += 1;
             }
@@ -164,6 +167,28 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         self.core
             .peek(isa::stack(0, isa::RayField::Col))
             .expect("the root colour is written before PIX_DONE")
+    }
+
+    /// The weight cutoff (thesis 3.8, end), with the configuration's bit
+    /// set: whether the child of a reflective hit on `obj` is refused, its
+    /// weight w * kr (the f32 product SH_CHILD_W would write; every lane of
+    /// a weight is the same) strictly below the cutoff c. u - c < 0 iff
+    /// u < c exactly: an IEEE difference of finite numbers is 0 only for
+    /// equal ones and has the sign of the exact difference.
+    fn cut(&mut self, obj: Object) -> bool {
+        if !self.cfg.cutoff {
+            return false;
+        }
+        let (mat, c) = match obj {
+            Object::Sphere(k) => (
+                isa::sphere(k, SphereField::Mat),
+                isa::sphere(k, SphereField::R),
+            ),
+            Object::Plane(j) => (isa::plane(j, PlaneField::Mat), isa::plane(j, PlaneField::Q)),
+        };
+        let core = &mut self.core;
+        core.mulz(State::CUT_W, t::U, Reg::CUR_W, mat, Lanes::Z);
+        core.sub(State::CUT_CMP, t::G, t::U, c, Lanes::Z).neg(2)
     }
 
     fn bits(&self, obj: Object) -> MaterialBits {

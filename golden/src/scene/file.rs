@@ -152,6 +152,13 @@ pub(super) struct RawRender {
     pub shadow_shortcut: bool,
     pub recip: RawMethod,
     pub sqrt: RawMethod,
+    /// Written only when on, so that scenes without it keep their text.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub weight_cutoff: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for RawRender {
@@ -164,6 +171,7 @@ impl Default for RawRender {
             shadow_shortcut: false,
             recip: RawMethod::Exact,
             sqrt: RawMethod::Exact,
+            weight_cutoff: 0.0,
         }
     }
 }
@@ -254,6 +262,7 @@ impl RawScene {
                 shadow_shortcut: render.speedups.shadow_shortcut,
                 recip: render.recip.into(),
                 sqrt: render.sqrt.into(),
+                weight_cutoff: f64::from(render.weight_cutoff),
             },
         }
     }

@@ -50,6 +50,11 @@ pub(super) fn config_hash(scene: &Scene) -> u64 {
     ]);
     h.u32(r.recip.code());
     h.u32(r.sqrt.code());
+    // Only when on: scenes without a cutoff keep their hashes.
+    if r.cutoff_on() {
+        h.bytes(b"weight_cutoff");
+        h.f32(r.weight_cutoff);
+    }
     h.finish()
 }
 

@@ -48,6 +48,7 @@
 //! shadow_shortcut = false
 //! recip = "exact"
 //! sqrt = "exact"
+//! weight_cutoff = 0.0  # spawn no reflected ray of weight < this (0 = off)
 //! ```
 //!
 //! Unknown keys are errors everywhere, and every error names the file and the
@@ -166,6 +167,21 @@ impl Scene {
             self.spheres.clone(),
             self.planes.clone(),
             self.render,
+        )
+    }
+
+    /// The same picture computed another way: other render settings (stack
+    /// depth, speed-ups, methods, weight cutoff), validated again (a
+    /// speed-up's precondition may not hold). `origin` names the request in
+    /// errors.
+    pub fn with_render(&self, render: RenderSettings, origin: &str) -> Result<Scene, SceneError> {
+        Scene::new(
+            origin,
+            self.camera.clone(),
+            self.light.clone(),
+            self.spheres.clone(),
+            self.planes.clone(),
+            render,
         )
     }
 

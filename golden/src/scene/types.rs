@@ -175,7 +175,7 @@ pub struct Speedups {
     pub shadow_shortcut: bool,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Ray stack depth: generations of open-air rays, 1..=[`MAX_DEPTH`].
     pub max_depth: u32,
@@ -184,4 +184,18 @@ pub struct RenderSettings {
     pub recip: Method,
     /// Method of the RTL's square-root unit.
     pub sqrt: Method,
+    /// The weight cutoff (thesis 3.8, end): no reflected ray is spawned
+    /// whose weight, the product of the reflection values along its path,
+    /// is strictly below this. In [0, 1]; 0 (the default) switches it off.
+    /// golden::reference compares in f64, golden::micro and the RTL in f32
+    /// (the very product SH_CHILD_W writes): `weight < weight_cutoff`.
+    pub weight_cutoff: f32,
+}
+
+impl RenderSettings {
+    /// Whether the weight cutoff is on (a cutoff of 0 refuses no ray, and
+    /// costs no cycle).
+    pub fn cutoff_on(&self) -> bool {
+        self.weight_cutoff > 0.0
+    }
 }

@@ -191,7 +191,23 @@ impl Check<'_> {
             },
             recip: r.recip.into(),
             sqrt: r.sqrt.into(),
+            weight_cutoff: self.weight_cutoff(r.weight_cutoff)?,
         })
+    }
+
+    /// A weight is a product of reflection values in [0, 1], so a cutoff
+    /// outside [0, 1] means nothing (above 1 it would refuse every ray):
+    /// refused, as are NaN and infinities. -0 is 0 (off).
+    fn weight_cutoff(&self, x: f64) -> Result<f32, SceneError> {
+        let field = "render.weight_cutoff";
+        let c = self.num(field, x)?;
+        if !(0.0..=1.0).contains(&c) {
+            return Err(self.fail(
+                field,
+                format!("must be in [0, 1] (a weight is a product of reflection values; 0 = off), got {x}"),
+            ));
+        }
+        Ok(c + 0.0)
     }
 }
 

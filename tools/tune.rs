@@ -1,0 +1,237 @@
+//! `rtcosim tune`: the cheapest configuration that renders a scene within
+//! an error target (harness/tune.rs), why, its RTL build parameters, and
+//! with --area the register file it needs against the full build's.
+
+use crate::args::{SceneArgs, ThreadsArgs};
+use crate::ui::progress_bar;
+use anyhow::{Context, Result};
+use golden::scene::{RenderSettings, MAX_DEPTH};
+use rtcosim::tune::{self, describe, method_name, Evaluated, Measure, Tuned};
+use std::io::Write;
+use std::path::Path;
+
+#[derive(clap::Args, Debug)]
+pub struct TuneArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The error target on the 0..255 scale, against the f64 reference at
+    /// the deepest stack (8) without cutoff: a number in (0, 255].
+    #[arg(long, value_parser = parse_target)]
+    pub max_error: f64,
+    /// How a frame's error is summarised: the largest channel difference,
+    /// or the mean.
+    #[arg(long, value_enum, default_value_t = Measure::Max)]
+    pub measure: Measure,
+    /// Also measure the register file of the tuned build against the full
+    /// build's (STACK_DEPTH 8) with yosys (about a second).
+    #[arg(long)]
+    pub area: bool,
+    #[command(flatten)]
+    pub threads: ThreadsArgs,
+}
+
+fn parse_target(s: &str) -> Result<f64, String> {
+    let e: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a number in (0, 255], got {s:?}"))?;
+    tune::check_target(e).map_err(|err| err.to_string())
+}
+
+/// Runs the grid; Ok(false) when no configuration meets the target.
+pub fn run(args: TuneArgs) -> Result<bool> {
+    let scene = args.scene.load()?;
+    let pool = args.threads.pool()?;
+    let bar = progress_bar(
+        tune::grid_len(&scene),
+        "tuning   ",
+        "{pos}/{len} configurations ({eta})",
+    )?;
+    let tuned =
+        pool.install(|| tune::tune(&scene, args.max_error, args.measure, &|n| bar.inc(n)))?;
+    bar.finish_and_clear();
+    let out = &mut std::io::stdout().lock();
+    writeln!(
+        out,
+        "scene {} ({}x{}), {} error <= {} (0..255 scale) against the f64 reference at depth {MAX_DEPTH}, no cutoff; {} configurations",
+        args.scene.scene,
+        scene.camera.width,
+        scene.camera.height,
+        args.measure,
+        args.max_error,
+        tuned.all.len()
+    )?;
+    let Some(best) = tuned.best() else {
+        let closest = tuned
+            .all
+            .iter()
+            .min_by(|a, b| a.error(args.measure).total_cmp(&b.error(args.measure)))
+            .context("an empty grid")?;
+        writeln!(
+            out,
+            "no configuration meets the target: the most accurate is {} with {} error {:.4}",
+            describe(&closest.render),
+            args.measure,
+            closest.error(args.measure)
+        )?;
+        return Ok(false);
+    };
+    explain(out, &tuned, best)?;
+    if args.area {
+        area(out, best.render.max_depth)?;
+    }
+    Ok(true)
+}
+
+fn line(e: &Evaluated) -> String {
+    format!(
+        "{}: {:.1} cycles/pixel, largest error {:.4}, mean {:.5}",
+        describe(&e.render),
+        e.cycles_per_pixel(),
+        e.max_error,
+        e.mean_error
+    )
+}
+
+fn explain(out: &mut impl Write, t: &Tuned, best: &Evaluated) -> Result<()> {
+    let m = t.measure;
+    let full = t
+        .all
+        .iter()
+        .find(|e| {
+            e.render.max_depth == MAX_DEPTH
+                && e.render.weight_cutoff == 0.0
+                && (e.render.recip, e.render.sqrt)
+                    == (golden::fp::Method::Exact, golden::fp::Method::Exact)
+        })
+        .context("the full build is in the grid")?;
+    writeln!(out, "cheapest: {}", line(best))?;
+    writeln!(out, "full build: {}", line(full))?;
+    writeln!(
+        out,
+        "saves {:.1}% of the cycles",
+        100.0 * (1.0 - best.cycles_per_pixel() / full.cycles_per_pixel())
+    )?;
+    writeln!(out, "why:")?;
+    let r = best.render;
+    let err = |e: &Evaluated| e.error(m);
+    if r.max_depth > 1 {
+        let shallower = t.neighbour(|x| {
+            x.max_depth -= 1;
+            if x.max_depth == 1 {
+                x.weight_cutoff = 0.0;
+            }
+        });
+        if let Some(e) = shallower {
+            writeln!(
+                out,
+                "  one level less ({}) would miss the target: {m} error {:.4} > {}",
+                describe(&e.render),
+                err(e),
+                t.target
+            )?;
+        }
+    } else {
+        writeln!(out, "  depth 1, the least there is: no reflection at all")?;
+    }
+    let next_cut = tune::CUTOFFS.iter().copied().find(|&c| c > r.weight_cutoff);
+    match next_cut.and_then(|c| t.neighbour(|x| x.weight_cutoff = c)) {
+        Some(e) if r.max_depth > 1 => writeln!(
+            out,
+            "  the next larger cutoff ({}) gives {m} error {:.4}{}",
+            describe(&e.render),
+            err(e),
+            if err(e) > t.target {
+                " (misses the target)"
+            } else {
+                " but costs more cycles (two instructions per push it checks)"
+            }
+        )?,
+        _ => {}
+    }
+    for (flip_recip, what) in [(true, "reciprocal"), (false, "square root")] {
+        let other = t.neighbour(|x| {
+            let m = if flip_recip {
+                &mut x.recip
+            } else {
+                &mut x.sqrt
+            };
+            *m = match *m {
+                golden::fp::Method::Exact => golden::fp::Method::Fast,
+                golden::fp::Method::Fast => golden::fp::Method::Exact,
+            };
+        });
+        if let Some(e) = other {
+            writeln!(
+                out,
+                "  the other {what} method: {:+.1} cycles/pixel, {m} error {:.4}",
+                e.cycles_per_pixel() - best.cycles_per_pixel(),
+                err(e)
+            )?;
+        }
+    }
+    if let Some(e) = t.best_cheaper() {
+        writeln!(
+            out,
+            "  the most accurate cheaper configuration, {}, costs {:.1} cycles/pixel less but has {m} error {:.4} > {}",
+            describe(&e.render),
+            best.cycles_per_pixel() - e.cycles_per_pixel(),
+            err(e),
+            t.target
+        )?;
+    } else {
+        writeln!(out, "  nothing in the grid is cheaper")?;
+    }
+    let s = t.speedups;
+    writeln!(
+        out,
+        "  speed-ups on (their preconditions hold): bounding_box {}, fast_plane {}, shadow_shortcut {}",
+        s.bounding_box, s.fast_plane, s.shadow_shortcut
+    )?;
+    for (name, why) in &t.refused {
+        writeln!(out, "  {name} off: {why}")?;
+    }
+    rtl_parameters(out, &r)
+}
+
+fn rtl_parameters(out: &mut impl Write, r: &RenderSettings) -> Result<()> {
+    let param = |m| match m {
+        golden::fp::Method::Exact => "`FP_METHOD_EXACT",
+        golden::fp::Method::Fast => "`FP_METHOD_FAST",
+    };
+    writeln!(
+        out,
+        "RTL build: pixel_processor #(.STACK_DEPTH({}), .RECIP_METHOD({}), .SQRT_METHOD({}))",
+        r.max_depth,
+        param(r.recip),
+        param(r.sqrt)
+    )?;
+    writeln!(
+        out,
+        "scene [render]: max_depth = {}, recip = \"{}\", sqrt = \"{}\", weight_cutoff = {}, bounding_box = {}, fast_plane = {}, shadow_shortcut = {}",
+        r.max_depth,
+        method_name(r.recip),
+        method_name(r.sqrt),
+        r.weight_cutoff,
+        r.speedups.bounding_box,
+        r.speedups.fast_plane,
+        r.speedups.shadow_shortcut
+    )?;
+    Ok(())
+}
+
+fn area(out: &mut impl Write, depth: u32) -> Result<()> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl/pp");
+    let tuned = tune::register_file_area(&dir, depth)?;
+    let full = tune::register_file_area(&dir, MAX_DEPTH)?;
+    writeln!(
+        out,
+        "area (yosys proc; opt, before techmap, of memory + mem_ctrl): register file {} storage bits and {} cells at STACK_DEPTH {depth}, against {} bits and {} cells at {MAX_DEPTH} ({:.1}% of the storage)",
+        tuned.memory_bits,
+        tuned.cells,
+        full.memory_bits,
+        full.cells,
+        100.0 * tuned.memory_bits as f64 / full.memory_bits as f64
+    )?;
+    Ok(())
+}
