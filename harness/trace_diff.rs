@@ -199,6 +199,9 @@ pub struct DiffOptions {
     pub pixel: Option<(u32, u32)>,
     /// Events before the first divergence to keep, from both sides.
     pub context: usize,
+    /// Name the Rust lines of every divergent pixel's events (each costs a
+    /// golden run of the pixel per side), not only the first one's.
+    pub sources_for_all: bool,
 }
 
 /// A key whose value differs between the two headers.
@@ -323,7 +326,8 @@ pub fn labels(a: &Path, b: &Path) -> Labels {
 }
 
 /// Diffs trace `a` against trace `b`. `each` sees every divergent pixel's
-/// verdict as it is found, with its source lines filled in; `progress` is
+/// verdict as it is found (with its source lines filled in for the first,
+/// and for all with [`DiffOptions::sources_for_all`]); `progress` is
 /// called with the number of pixels compared, now and then.
 pub fn diff(
     a: &Path,
@@ -387,8 +391,11 @@ pub fn diff(
                 if wanted(&pa) {
                     let mut v = compare(&pa, &pb, options.tolerance);
                     if let Some(d) = v.first.as_mut() {
-                        fill_sources(d, &rerun_a, &rerun_b);
-                        if report.first_divergence.is_none() {
+                        let first = report.first_divergence.is_none();
+                        if first || options.sources_for_all {
+                            fill_sources(d, &rerun_a, &rerun_b);
+                        }
+                        if first {
                             context = context_before(&pa, &pb, d, options.context);
                         }
                         divergent.push((d.x, d.y, d.class));

@@ -258,6 +258,17 @@ fn faults_on_the_golden_side_are_located_too() {
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert_located(&stdout, (28, 9), "SPH_T");
     assert!(stdout.contains("(control-flow divergence):"), "{stdout}");
+    // Without --all only the first divergence is named in the Rust (once a
+    // side); with it, every divergent pixel's is.
+    assert_eq!(stdout.matches(", issued by ").count(), 2, "{stdout}");
+    let out = trace_diff(&[arg(&control), arg(&rtl), "--all"]);
+    let stdout = text(&out.stdout);
+    let pixels = stdout.matches("\npixel (").count() + usize::from(stdout.starts_with("pixel ("));
+    assert!(pixels > 1, "several divergent pixels listed: {stdout}");
+    assert!(
+        stdout.matches(", issued by ").count() >= 2 * (pixels + 1),
+        "each listed pixel and the first divergence named in the Rust: {stdout}"
+    );
 }
 
 /// Rewrites trace `from` into `to`, changing records with `edit`.

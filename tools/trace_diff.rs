@@ -79,6 +79,7 @@ pub fn run(args: TraceDiffArgs) -> Result<bool> {
         },
         pixel: args.pixel,
         context: args.context,
+        sources_for_all: args.all,
     };
     let json_only = args.json.as_deref() == Some(std::path::Path::new("-"));
     let mut out: Box<dyn Write> = if json_only {
