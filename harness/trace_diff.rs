@@ -18,7 +18,7 @@
 //! side that wrote them) are compared, and their header differences listed.
 
 use crate::compare::{
-    CompareReport, Divergence, DivergenceClass, Labels, PixelCompare, PixelVerdict, SourceLine,
+    compare_pixel, CompareReport, Divergence, DivergenceClass, Labels, PixelVerdict, SourceLine,
     Tolerance,
 };
 use golden::micro::{Fault, Processor};
@@ -436,18 +436,13 @@ pub fn diff(
 
 /// One pixel of both traces through the engine.
 fn compare(a: &TracePixel, b: &TracePixel, tolerance: Tolerance) -> PixelVerdict {
-    let mut cmp = PixelCompare::new(u32::from(a.x), u32::from(a.y), tolerance);
-    let common = a.events.len().min(b.events.len());
-    for (ea, eb) in a.events.iter().zip(&b.events) {
-        cmp.pair(ea, eb, None);
-    }
-    for e in &a.events[common..] {
-        cmp.only_a(e);
-    }
-    for e in &b.events[common..] {
-        cmp.only_b(e, None);
-    }
-    cmp.finish(a.outcome, b.outcome)
+    let (x, y) = (u32::from(a.x), u32::from(a.y));
+    compare_pixel(x, y, tolerance, &a.events, a.outcome, |sink| {
+        for e in &b.events {
+            sink(e, None);
+        }
+        b.outcome
+    })
 }
 
 fn fill_sources(d: &mut Divergence, a: &Rerun, b: &Rerun) {

@@ -165,18 +165,6 @@ pub fn grid(speedups: Speedups) -> Vec<RenderSettings> {
     out
 }
 
-/// The truth the error is measured against: the f64 reference at
-/// [`MAX_DEPTH`], no cutoff.
-pub fn truth(scene: &Scene) -> Result<Frame, SceneError> {
-    let render = RenderSettings {
-        max_depth: MAX_DEPTH,
-        weight_cutoff: 0.0,
-        ..scene.render
-    };
-    let deepest = scene.with_render(render, "tune truth")?;
-    Ok(golden::reference::render(&deepest, &|_| {}))
-}
-
 /// Renders `scene` with `render` (golden micro) and measures it.
 pub fn evaluate(
     scene: &Scene,
@@ -244,7 +232,7 @@ pub fn tune(
 ) -> Result<Tuned, TuneError> {
     let target = check_target(target)?;
     let (speedups, refused) = speedups_that_hold(scene);
-    let truth = truth(scene)?;
+    let truth = golden::reference::truth(scene, &|_| {})?;
     let mut all = grid(speedups)
         .into_par_iter()
         .map(|r| {
@@ -280,16 +268,9 @@ pub fn describe(r: &RenderSettings) -> String {
     format!(
         "depth {}, recip {}, sqrt {}, {cut}",
         r.max_depth,
-        method_name(r.recip),
-        method_name(r.sqrt)
+        r.recip.name(),
+        r.sqrt.name()
     )
-}
-
-pub fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Exact => "exact",
-        Method::Fast => "fast",
-    }
 }
 
 /// The register file's size in a build: what STACK_DEPTH changes.

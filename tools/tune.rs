@@ -6,7 +6,7 @@ use crate::args::{SceneArgs, ThreadsArgs};
 use crate::ui::progress_bar;
 use anyhow::{Context, Result};
 use golden::scene::{RenderSettings, MAX_DEPTH};
-use rtcosim::tune::{self, describe, method_name, Evaluated, Measure, Tuned};
+use rtcosim::tune::{self, describe, Evaluated, Measure, Tuned};
 use std::io::Write;
 use std::path::Path;
 
@@ -210,8 +210,8 @@ fn rtl_parameters(out: &mut impl Write, r: &RenderSettings) -> Result<()> {
         out,
         "scene [render]: max_depth = {}, recip = \"{}\", sqrt = \"{}\", weight_cutoff = {}, bounding_box = {}, fast_plane = {}, shadow_shortcut = {}",
         r.max_depth,
-        method_name(r.recip),
-        method_name(r.sqrt),
+        r.recip.name(),
+        r.sqrt.name(),
         r.weight_cutoff,
         r.speedups.bounding_box,
         r.speedups.fast_plane,

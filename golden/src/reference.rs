@@ -41,7 +41,7 @@
 //!   spawned (thesis 3.8, end; 0 = off).
 
 use crate::frame::Frame;
-use crate::scene::{dvec, Scene, Vec3f};
+use crate::scene::{dvec, RenderSettings, Scene, SceneError, Vec3f, MAX_DEPTH};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
@@ -60,6 +60,19 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
 fn pixel_with(scene: &Scene, rotation: &DMat3, px: u32, py: u32) -> [f64; 3] {
     let dir = rotated_direction(scene, rotation, px, py);
     shade(scene, dvec(scene.camera.eye), dir, None, 0, 1.0).to_array()
+}
+
+/// What accuracy is measured against: the f64 render of `scene` at the
+/// deepest stack ([`MAX_DEPTH`]) and with no weight cutoff (speed-ups and
+/// methods do not change the reference). Used by `rtcosim sweep` and `tune`.
+pub fn truth(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> Result<Frame, SceneError> {
+    let settings = RenderSettings {
+        max_depth: MAX_DEPTH,
+        weight_cutoff: 0.0,
+        ..scene.render
+    };
+    let deepest = scene.with_render(settings, "the reference at the deepest stack")?;
+    Ok(render(&deepest, progress))
 }
 
 /// Renders the whole frame, rows in parallel on the current rayon pool.

@@ -321,19 +321,13 @@ pub enum SweepError {
     Chart { path: PathBuf, reason: String },
 }
 
-/// The f64 reference frame the sweep measures against: the scene at the
-/// deepest stack (speed-ups and methods do not apply to the reference).
+/// The f64 reference frame the sweep measures against
+/// ([`golden::reference::truth`]: the deepest stack, no cutoff).
 pub fn reference_frame(name: &str, scene: &Scene) -> Result<Frame, SweepError> {
-    let deepest = Config {
-        depth: MAX_DEPTH,
-        ..Config::full()
-    }
-    .apply(scene, name)
-    .map_err(|source| SweepError::Reference {
+    golden::reference::truth(scene, &|_| {}).map_err(|source| SweepError::Reference {
         scene: name.into(),
         source: Box::new(source),
-    })?;
-    Ok(golden::reference::render(&deepest, &|_| {}))
+    })
 }
 
 /// Renders every configuration of `grid` that `scene` accepts with the
