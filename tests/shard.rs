@@ -446,7 +446,13 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
     let future = damaged("future.json", text0.replace("\"format\":1", "\"format\":9"));
     let e = refused(&[&future]);
     assert!(e.contains("format 9, this rtcosim reads format 1"), "{e}");
-    let items = damaged("items.json", text0.replace("\"items\":[0", "\"items\":[1"));
+    // Its first item dropped.
+    let at = text0.find("\"items\":[").expect("items") + "\"items\":[".len();
+    let comma = at + text0[at..].find(',').expect("two items or more");
+    let items = damaged(
+        "items.json",
+        format!("{}{}", &text0[..at], &text0[comma + 1..]),
+    );
     let e = refused(&[&items]);
     assert!(e.contains("items.json: damaged: shard 0/3"), "{e}");
 

@@ -141,7 +141,7 @@ fn measure(
     shard: Shard,
     pool: &rayon::ThreadPool,
 ) -> Result<Vec<run::Measured>> {
-    let items = shard.positions(config.work().len() as u64).count() as u64;
+    let items = shard.positions(config.work().len() as u64).len() as u64;
     let bar = progress_bar(
         items,
         "sweep    ",

@@ -37,6 +37,7 @@ impl Campaign {
     pub fn indices(&self, shard: Shard) -> Vec<u64> {
         shard
             .positions(self.count)
+            .into_iter()
             .map(|i| self.first + i)
             .collect()
     }

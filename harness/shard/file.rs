@@ -125,7 +125,7 @@ impl<R: Serialize> ShardFile<R> {
             config,
             shard,
             total_items,
-            items: shard.positions(total_items).collect(),
+            items: shard.positions(total_items),
             result,
         }
     }
@@ -219,7 +219,7 @@ pub fn read(path: &Path) -> Result<ShardFile<Value>, MergeError> {
     }
     let shard = Shard::new(file.shard.index, file.shard.count, "its shard")
         .map_err(|e| corrupt(e.to_string()))?;
-    let expected: Vec<u64> = shard.positions(file.total_items).collect();
+    let expected = shard.positions(file.total_items);
     if file.items != expected {
         let at = expected
             .iter()

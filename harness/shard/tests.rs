@@ -33,23 +33,49 @@ fn k_of_n_parses_from_0_and_refuses_what_is_not_a_shard() {
 }
 
 #[test]
-fn the_slices_are_disjoint_and_cover_the_work_list() {
+fn the_slices_are_disjoint_cover_the_work_list_and_are_even() {
     for count in 1..=7u64 {
-        for len in [0u64, 1, 5, 23] {
+        for len in [0u64, 1, 5, 23, 256] {
             let mut seen = vec![0; len as usize];
             for index in 0..count {
-                let shard = Shard { index, count };
-                let positions: Vec<u64> = shard.positions(len).collect();
-                assert!(positions.iter().all(|&i| shard.owns(i)));
-                assert_eq!(
-                    positions.len() as u64,
-                    (0..len).filter(|&i| shard.owns(i)).count() as u64
+                let positions = Shard { index, count }.positions(len);
+                assert!(positions.windows(2).all(|w| w[0] < w[1]), "ascending");
+                let n = positions.len() as u64;
+                assert!(
+                    n == len / count || n == len / count + 1,
+                    "{n} of {len} / {count}"
                 );
                 for i in positions {
                     seen[i as usize] += 1;
                 }
             }
             assert!(seen.iter().all(|&n| n == 1), "{count} shards of {len}");
+        }
+    }
+}
+
+/// Plain round robin would give shard K of a power-of-two N only the
+/// positions i = K mod N, and a sweep's grid (innermost: 8 speed-up sets,
+/// the shadow shortcut the lowest bit) would split along its dimensions.
+#[test]
+fn the_slices_do_not_follow_the_grid() {
+    for count in [2u64, 4, 8] {
+        for index in 0..count {
+            let positions = Shard { index, count }.positions(256);
+            let residues: std::collections::BTreeSet<u64> =
+                positions.iter().map(|i| i % count).collect();
+            assert_eq!(
+                residues.len() as u64,
+                count,
+                "shard {index}/{count}: {positions:?}"
+            );
+            // Both settings of the lowest bit, in about equal numbers.
+            let odd = positions.iter().filter(|&&i| i % 2 == 1).count();
+            let n = positions.len();
+            assert!(
+                odd * 4 >= n && odd * 4 <= 3 * n,
+                "{index}/{count}: {odd} odd of {n}"
+            );
         }
     }
 }

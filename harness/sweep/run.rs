@@ -133,10 +133,12 @@ pub fn measure(
 ) -> Result<Vec<Measured>, SweepError> {
     let work = config.work();
     let clock_hz = config.clock_hz();
+    let positions = shard.positions(work.len() as u64);
     let mut out = Vec::new();
     for (s, (named, scene)) in config.scenes.iter().zip(scenes).enumerate() {
-        let mine: Vec<(u64, Config)> = shard
-            .positions(work.len() as u64)
+        let mine: Vec<(u64, Config)> = positions
+            .iter()
+            .copied()
             .filter(|&i| work[i as usize].0 == s)
             .map(|i| (i, work[i as usize].1))
             .collect();
