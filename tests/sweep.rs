@@ -205,7 +205,10 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
         stdout.contains("96 configurations run, 0 refused"),
         "{stdout}"
     );
-    let cut = rows.iter().filter(|r| r["weight_cutoff"] == "0.0625").count();
+    let cut = rows
+        .iter()
+        .filter(|r| r["weight_cutoff"] == "0.0625")
+        .count();
     assert_eq!(cut, 32, "depth 4 only");
 
     let deepest = scene(8, Method::Exact, Method::Exact, Speedups::default(), 0.0);
