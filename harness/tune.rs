@@ -1,41 +1,25 @@
 //! `rtcosim tune`: the cheapest configuration of the pixel processor that
 //! renders a scene within an error target, and why.
 //!
-//! The grid: stack depth 1..=[`MAX_DEPTH`] x reciprocal method x
-//! square-root method x weight cutoff ([`CUTOFFS`]), each with every
-//! speed-up whose precondition the scene meets (they never change the image,
-//! only the cycles: `golden::scene` validates that). Every configuration is
-//! rendered with the golden micro-op model (its cycles are the RTL's, cycle
-//! for cycle, and its colours bit for bit) and compared with the truth: the
-//! f64 reference renderer at the deepest stack the hardware has
-//! ([`MAX_DEPTH`]) and no cutoff. The error is the largest or the mean
+//! The grid is the sweep's ([`Grid::tune`]): stack depth 1..=[`MAX_DEPTH`] x
+//! reciprocal method x square-root method x weight cutoff
+//! ([`CUTOFFS`](crate::sweep::CUTOFFS)), each with every speed-up whose
+//! precondition the scene meets (they never change the image, only the
+//! cycles: `golden::scene` validates that). Each configuration is measured
+//! by the sweep ([`sweep::sweep_scene`]: the golden micro-op model, whose
+//! cycles are the RTL's, cycle for cycle, and whose colours are bit for
+//! bit, against the truth: the f64 reference renderer at the deepest stack
+//! the hardware has and no cutoff). The error is the largest or the mean
 //! absolute channel difference on the 0..255 scale ([`Measure`]).
 //!
 //! "Cheapest" is [`cost_order`]: fewest cycles per pixel, then the smaller
 //! stack (less hardware), then the rest in a fixed order, so the answer is
 //! unique.
 
-use golden::fp::Method;
-use golden::frame::Frame;
-use golden::scene::{RenderSettings, Scene, SceneError, Speedups, MAX_DEPTH};
-use rayon::prelude::*;
+use crate::sweep::{self, Config, Grid, Row, SweepError, THESIS_CLOCK_HZ};
+use golden::scene::{RenderSettings, Scene, Speedups};
 use std::cmp::Ordering;
 use std::fmt;
-
-/// The weight cutoffs tried: off, and the powers of two 2^-8 (a weight that
-/// can move a channel by at most one 8-bit step) to 2^-1. Exact in f32 and
-/// f64, so both models compare against the same number.
-pub const CUTOFFS: [f32; 9] = [
-    0.0,
-    1.0 / 256.0,
-    1.0 / 128.0,
-    1.0 / 64.0,
-    1.0 / 32.0,
-    1.0 / 16.0,
-    1.0 / 8.0,
-    1.0 / 4.0,
-    1.0 / 2.0,
-];
 
 /// How a frame's error against the truth is summarised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -44,6 +28,16 @@ pub enum Measure {
     Max,
     /// The mean absolute channel difference (0..255 scale).
     Mean,
+}
+
+impl Measure {
+    /// A sweep row's error in this measure.
+    pub fn of(self, row: &Row) -> f64 {
+        match self {
+            Measure::Max => row.max_abs_error,
+            Measure::Mean => row.mean_abs_error,
+        }
+    }
 }
 
 impl fmt::Display for Measure {
@@ -55,46 +49,17 @@ impl fmt::Display for Measure {
     }
 }
 
-/// One configuration, rendered and measured.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Evaluated {
-    pub render: RenderSettings,
-    /// The frame's cycles (golden micro, = the RTL's) and pixels.
-    pub cycles: u64,
-    pub pixels: u64,
-    /// Against the truth, 0..255 scale.
-    pub max_error: f64,
-    pub mean_error: f64,
-}
-
-impl Evaluated {
-    pub fn cycles_per_pixel(&self) -> f64 {
-        self.cycles as f64 / self.pixels as f64
-    }
-
-    pub fn error(&self, m: Measure) -> f64 {
-        match m {
-            Measure::Max => self.max_error,
-            Measure::Mean => self.mean_error,
-        }
-    }
-}
-
 /// "Cheaper first": fewer cycles, then the smaller stack (STACK_DEPTH), then
 /// the fast methods (fewer cycles already decided the rest), then the
 /// larger cutoff; a total order on the grid.
-pub fn cost_order(a: &Evaluated, b: &Evaluated) -> Ordering {
-    let key = |e: &Evaluated| {
-        (
-            e.cycles,
-            e.render.max_depth,
-            e.render.recip.code(),
-            e.render.sqrt.code(),
-        )
+pub fn cost_order(a: &Row, b: &Row) -> Ordering {
+    let key = |r: &Row| {
+        let c = r.config();
+        (r.frame_cycles, c.depth, c.recip.code(), c.sqrt.code())
     };
     key(a)
         .cmp(&key(b))
-        .then(b.render.weight_cutoff.total_cmp(&a.render.weight_cutoff))
+        .then(b.weight_cutoff.total_cmp(&a.weight_cutoff))
 }
 
 /// Why the tuner cannot run.
@@ -103,7 +68,9 @@ pub enum TuneError {
     #[error("--max-error must be a number in (0, 255] (0..255 scale), got {0}")]
     Target(f64),
     #[error(transparent)]
-    Scene(#[from] SceneError),
+    Sweep(#[from] SweepError),
+    #[error("{config}: refused although its speed-ups were checked: {reason}")]
+    Refused { config: String, reason: String },
 }
 
 /// The error target, checked: finite, above 0 (no f32 frame equals the f64
@@ -142,49 +109,6 @@ pub fn speedups_that_hold(scene: &Scene) -> (Speedups, Vec<(&'static str, String
     (on, refused)
 }
 
-/// The configurations of the grid for `scene` (its image, its speed-ups
-/// that hold): depth 1 has no reflection to cut, so only cutoff 0.
-pub fn grid(speedups: Speedups) -> Vec<RenderSettings> {
-    let methods = [Method::Exact, Method::Fast];
-    let mut out = Vec::new();
-    for max_depth in 1..=MAX_DEPTH {
-        for recip in methods {
-            for sqrt in methods {
-                for &weight_cutoff in CUTOFFS.iter().filter(|&&c| max_depth > 1 || c == 0.0) {
-                    out.push(RenderSettings {
-                        max_depth,
-                        speedups,
-                        recip,
-                        sqrt,
-                        weight_cutoff,
-                    });
-                }
-            }
-        }
-    }
-    out
-}
-
-/// Renders `scene` with `render` (golden micro) and measures it.
-pub fn evaluate(
-    scene: &Scene,
-    render: RenderSettings,
-    truth: &Frame,
-) -> Result<Evaluated, SceneError> {
-    let s = scene.with_render(render, "tune")?;
-    let (frame, stats) = golden::micro::render(&s, &|_| {});
-    let diff = frame
-        .compare(truth)
-        .expect("the same scene's frames have one size");
-    Ok(Evaluated {
-        render,
-        cycles: stats.cycles,
-        pixels: stats.pixels,
-        max_error: diff.max_abs_diff,
-        mean_error: diff.mean(),
-    })
-}
-
 /// The tuner's answer.
 #[derive(Debug, Clone)]
 pub struct Tuned {
@@ -194,37 +118,65 @@ pub struct Tuned {
     /// others are off.
     pub speedups: Speedups,
     pub refused: Vec<(&'static str, String)>,
-    /// Every configuration of the grid, cheapest first.
-    pub all: Vec<Evaluated>,
+    /// Every configuration of the grid, measured, cheapest first.
+    pub all: Vec<Row>,
     /// Index into `all` of the cheapest meeting the target, if any.
     pub best: Option<usize>,
 }
 
 impl Tuned {
-    pub fn best(&self) -> Option<&Evaluated> {
+    pub fn best(&self) -> Option<&Row> {
         self.best.map(|i| &self.all[i])
     }
 
+    /// This row's error in the tuner's measure.
+    pub fn error(&self, row: &Row) -> f64 {
+        self.measure.of(row)
+    }
+
     /// The configuration equal to `best` but for `change`, if in the grid.
-    pub fn neighbour(&self, change: impl Fn(&mut RenderSettings)) -> Option<&Evaluated> {
-        let mut r = self.best()?.render;
-        change(&mut r);
-        self.all.iter().find(|e| e.render == r)
+    pub fn neighbour(&self, change: impl Fn(&mut Config)) -> Option<&Row> {
+        let mut c = self.best()?.config();
+        change(&mut c);
+        self.all.iter().find(|r| r.config() == c)
+    }
+
+    /// The full build's row: the deepest stack, the correctly rounded
+    /// units, no cutoff (with the speed-ups that hold).
+    pub fn full(&self) -> Option<&Row> {
+        let full = Config {
+            speedups: self.speedups,
+            ..Config::full()
+        };
+        self.all.iter().find(|r| r.config() == full)
     }
 
     /// Among the configurations cheaper than the best, the most accurate
     /// (what the next saving would cost).
-    pub fn best_cheaper(&self) -> Option<&Evaluated> {
+    pub fn best_cheaper(&self) -> Option<&Row> {
         let i = self.best?;
         self.all[..i]
             .iter()
-            .min_by(|a, b| a.error(self.measure).total_cmp(&b.error(self.measure)))
+            .min_by(|a, b| self.error(a).total_cmp(&self.error(b)))
+    }
+
+    /// The most accurate configuration of the grid.
+    pub fn most_accurate(&self) -> Option<&Row> {
+        self.all
+            .iter()
+            .min_by(|a, b| self.error(a).total_cmp(&self.error(b)))
     }
 }
 
+/// The grid [`tune`] runs on `scene` (for a progress bar's length).
+pub fn grid(scene: &Scene) -> Grid {
+    Grid::tune(speedups_that_hold(scene).0)
+}
+
 /// Runs the grid on the current rayon pool; `progress` is called once per
-/// configuration finished.
+/// configuration finished. `name` names the scene in errors.
 pub fn tune(
+    name: &str,
     scene: &Scene,
     target: f64,
     measure: Measure,
@@ -232,17 +184,26 @@ pub fn tune(
 ) -> Result<Tuned, TuneError> {
     let target = check_target(target)?;
     let (speedups, refused) = speedups_that_hold(scene);
-    let truth = golden::reference::truth(scene, &|_| {})?;
-    let mut all = grid(speedups)
-        .into_par_iter()
-        .map(|r| {
-            let e = evaluate(scene, r, &truth);
-            progress(1);
-            e
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let truth = sweep::reference_frame(name, scene)?;
+    let swept = sweep::sweep_scene(
+        name,
+        scene,
+        &truth,
+        &Grid::tune(speedups),
+        THESIS_CLOCK_HZ,
+        progress,
+    );
+    if let Some(s) = swept.skipped.first() {
+        // The speed-ups were checked above, so the scene accepts every
+        // configuration; one it refuses is a bug to report, not to hide.
+        return Err(TuneError::Refused {
+            config: s.config.label(),
+            reason: s.reason.clone(),
+        });
+    }
+    let mut all = swept.rows;
     all.sort_by(cost_order);
-    let best = all.iter().position(|e| e.error(measure) <= target);
+    let best = all.iter().position(|r| measure.of(r) <= target);
     Ok(Tuned {
         target,
         measure,
@@ -251,26 +212,6 @@ pub fn tune(
         all,
         best,
     })
-}
-
-/// How many configurations [`tune`] evaluates (for a progress bar).
-pub fn grid_len(scene: &Scene) -> u64 {
-    grid(speedups_that_hold(scene).0).len() as u64
-}
-
-/// A configuration in a line: `depth 4, recip fast, sqrt exact, cutoff 1/64`.
-pub fn describe(r: &RenderSettings) -> String {
-    let cut = if r.weight_cutoff == 0.0 {
-        "no cutoff".to_string()
-    } else {
-        format!("cutoff 1/{}", (1.0 / r.weight_cutoff).round())
-    };
-    format!(
-        "depth {}, recip {}, sqrt {}, {cut}",
-        r.max_depth,
-        r.recip.name(),
-        r.sqrt.name()
-    )
 }
 
 /// The register file's size in a build: what STACK_DEPTH changes.
@@ -362,10 +303,10 @@ mod tests {
     }
 
     #[test]
-    fn the_grid_has_every_depth_method_pair_and_cutoff_once() {
-        let g = grid(Speedups::default());
+    fn the_tune_grid_has_every_depth_method_pair_and_cutoff_once() {
+        let g = Grid::tune(Speedups::default()).configs();
         // Depth 1: 4 method pairs, no cutoff; depths 2..=8: 4 x 9.
-        assert_eq!(g.len(), 4 + 7 * 4 * CUTOFFS.len());
+        assert_eq!(g.len(), 4 + 7 * 4 * sweep::CUTOFFS.len());
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a), "{a:?} twice");
         }

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// The documented column order (docs/accuracy.md, "Speed against accuracy").
-const HEADER: [&str; 26] = [
+const HEADER: [&str; 27] = [
     "scene",
     "width",
     "height",
@@ -24,6 +24,7 @@ const HEADER: [&str; 26] = [
     "bounding_box",
     "fast_plane",
     "shadow_shortcut",
+    "weight_cutoff",
     "cycles_per_pixel",
     "max_cycles",
     "frame_cycles",
@@ -74,7 +75,7 @@ fn num(r: &Record, col: &str) -> f64 {
 }
 
 /// The reference scene at 24x18 with this configuration.
-fn scene(depth: u32, recip: Method, sqrt: Method, speedups: Speedups) -> Scene {
+fn scene(depth: u32, recip: Method, sqrt: Method, speedups: Speedups, cutoff: f32) -> Scene {
     let base = Scene::reference().resized(24, 18, "test").expect("valid");
     #[allow(clippy::needless_update)] // keeps settings the test does not name
     let render = RenderSettings {
@@ -82,6 +83,7 @@ fn scene(depth: u32, recip: Method, sqrt: Method, speedups: Speedups) -> Scene {
         speedups,
         recip,
         sqrt,
+        weight_cutoff: cutoff,
         ..base.render
     };
     Scene::new(
@@ -114,6 +116,7 @@ fn row_scene(r: &Record) -> Scene {
             fast_plane: flag("fast_plane"),
             shadow_shortcut: flag("shadow_shortcut"),
         },
+        num(r, "weight_cutoff") as f32,
     )
 }
 
@@ -184,6 +187,8 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
         "24x18",
         "--depths",
         "1,4",
+        "--cutoffs",
+        "0,1/16",
         "--sample",
         "16",
         "--out",
@@ -193,15 +198,20 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
     assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
     let (header, rows) = read_csv(&dir.join("sweep.csv"));
     assert_eq!(header, HEADER);
-    // 2 recip x 2 sqrt x 2 depths x 8 speed-up sets; the reference scene
-    // refuses none.
-    assert_eq!(rows.len(), 64);
+    // 2 recip x 2 sqrt x 8 speed-up sets x (depth 1 with cutoff 0, depth 4
+    // with cutoffs 0 and 1/16); the reference scene refuses none.
+    assert_eq!(rows.len(), 96);
     assert!(
-        stdout.contains("64 configurations run, 0 refused"),
+        stdout.contains("96 configurations run, 0 refused"),
         "{stdout}"
     );
+    let cut = rows
+        .iter()
+        .filter(|r| r["weight_cutoff"] == "0.0625")
+        .count();
+    assert_eq!(cut, 32, "depth 4 only");
 
-    let deepest = scene(8, Method::Exact, Method::Exact, Speedups::default());
+    let deepest = scene(8, Method::Exact, Method::Exact, Speedups::default(), 0.0);
     let reference = golden::reference::render(&deepest, &|_| {});
     let full = golden::micro::render(&deepest, &|_| {}).0;
     for r in &rows {
@@ -276,7 +286,7 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
             .expect("valid JSON");
-    assert_eq!(json["scenes"][0]["rows"].as_array().map(Vec::len), Some(64));
+    assert_eq!(json["scenes"][0]["rows"].as_array().map(Vec::len), Some(96));
 }
 
 #[test]
@@ -320,6 +330,8 @@ fn refused_configurations_are_skipped_and_counted() {
         "12x9",
         "--depths",
         "2",
+        "--cutoffs",
+        "0",
         "--no-rtl",
         "--out",
         arg(&dir),
@@ -350,10 +362,12 @@ fn refused_configurations_are_skipped_and_counted() {
 #[test]
 fn bad_arguments_are_refused_naming_the_flag() {
     let dir = scratch("sweep", "bad");
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["--depths", "0,9"], "--depths"),
         (&["--scene", "no-such-scene"], "no-such-scene"),
         (&["--clock-mhz", "0"], "--clock-mhz"),
+        (&["--cutoffs", "0,1.5"], "--cutoffs"),
+        (&["--cutoffs", "2/3"], "--cutoffs"),
     ];
     for (extra, message) in cases {
         let mut args = vec!["sweep", "--size", "8x6", "--out", arg(&dir)];

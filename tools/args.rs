@@ -122,6 +122,27 @@ pub fn parse_fault(s: &str) -> Result<Fault, String> {
     s.parse()
 }
 
+/// A weight cutoff: `1/N` or a number, in [0, 1] (`[render]
+/// weight_cutoff`'s range; 0 is off).
+pub fn parse_cutoff(s: &str) -> Result<f32, String> {
+    let bad =
+        || format!("expected a weight cutoff in [0, 1], as a number or 1/N, e.g. 1/256; got {s:?}");
+    let t = s.trim();
+    let c = match t.split_once('/') {
+        Some((one, n)) if one.trim() == "1" => n
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|n| *n >= 1.0)
+            .map(|n| 1.0 / n),
+        Some(_) => None,
+        None => t.parse::<f64>().ok(),
+    };
+    c.filter(|c| (0.0..=1.0).contains(c))
+        .map(|c| c as f32)
+        .ok_or_else(bad)
+}
+
 /// A number of cycles, at least 1, in decimal or hex.
 pub fn parse_cycles(s: &str) -> Result<u64, String> {
     parse_number(s)

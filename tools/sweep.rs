@@ -1,6 +1,8 @@
 //! `rtcosim sweep`: speed against accuracy over the grid of configurations.
 
-use crate::args::{parse_cycles, parse_fault, parse_size, ShardArgs, Size, ThreadsArgs};
+use crate::args::{
+    parse_cutoff, parse_cycles, parse_fault, parse_size, ShardArgs, Size, ThreadsArgs,
+};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
@@ -28,6 +30,10 @@ pub struct SweepArgs {
     #[arg(long, value_delimiter = ',', value_name = "D1,D2,...",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_DEPTH)))]
     pub depths: Vec<u32>,
+    /// Weight cutoffs to sweep, comma-separated, each a number or 1/N in
+    /// [0, 1]; 0 is off (default: 0,1/256,1/16). Depth 1 takes only 0.
+    #[arg(long, value_delimiter = ',', value_name = "C1,C2,...", value_parser = parse_cutoff)]
+    pub cutoffs: Vec<f32>,
     /// Write sweep.csv, sweep.json and chart-<scene>.svg/.png into DIR
     /// (created if missing); a shard writes its sweep-K-of-N.shard.json.
     #[arg(long, value_name = "DIR")]
@@ -90,6 +96,7 @@ pub fn run(args: SweepArgs) -> Result<bool> {
     let config = RunConfig {
         scenes,
         depths: args.depths.clone(),
+        cutoffs: args.cutoffs.clone(),
         clock_mhz: args.clock_mhz,
         rtl: !args.no_rtl,
         sample: args.sample,
@@ -226,9 +233,12 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
     )?;
     writeln!(
         out,
-        "| depth | recip | sqrt | speed-ups | cycles/pixel | frames/s | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |"
+        "| depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | frames/s | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |"
     )?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(
+        out,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    )?;
     let thesis = s.thesis();
     let mut shown: Vec<&Row> = s.rows.iter().filter(|r| r.pareto).collect();
     shown.sort_by_key(|r| r.frame_cycles);
@@ -244,11 +254,12 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
         let mark = if Some(r) == thesis { " (thesis)" } else { "" };
         writeln!(
             out,
-            "| {} | {} | {} | {}{mark} | {:.2} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
+            "| {} | {} | {} | {}{mark} | {} | {:.2} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
             r.depth,
             r.recip,
             r.sqrt,
             sweep::speedup_label(r.config().speedups),
+            r.weight_cutoff,
             r.cycles_per_pixel,
             r.fps,
             r.mean_abs_error,

@@ -5,8 +5,10 @@
 use crate::args::{SceneArgs, ThreadsArgs};
 use crate::ui::progress_bar;
 use anyhow::{Context, Result};
-use golden::scene::{RenderSettings, MAX_DEPTH};
-use rtcosim::tune::{self, describe, Evaluated, Measure, Tuned};
+use golden::fp::Method;
+use golden::scene::MAX_DEPTH;
+use rtcosim::sweep::{Config, Row, CUTOFFS};
+use rtcosim::tune::{self, Measure, Tuned};
 use std::io::Write;
 use std::path::Path;
 
@@ -43,12 +45,19 @@ pub fn run(args: TuneArgs) -> Result<bool> {
     let scene = args.scene.load()?;
     let pool = args.threads.pool()?;
     let bar = progress_bar(
-        tune::grid_len(&scene),
+        tune::grid(&scene).configs().len() as u64,
         "tuning   ",
         "{pos}/{len} configurations ({eta})",
     )?;
-    let tuned =
-        pool.install(|| tune::tune(&scene, args.max_error, args.measure, &|n| bar.inc(n)))?;
+    let tuned = pool.install(|| {
+        tune::tune(
+            &args.scene.scene,
+            &scene,
+            args.max_error,
+            args.measure,
+            &|n| bar.inc(n),
+        )
+    })?;
     bar.finish_and_clear();
     let out = &mut std::io::stdout().lock();
     writeln!(
@@ -62,86 +71,73 @@ pub fn run(args: TuneArgs) -> Result<bool> {
         tuned.all.len()
     )?;
     let Some(best) = tuned.best() else {
-        let closest = tuned
-            .all
-            .iter()
-            .min_by(|a, b| a.error(args.measure).total_cmp(&b.error(args.measure)))
-            .context("an empty grid")?;
+        let closest = tuned.most_accurate().context("an empty grid")?;
         writeln!(
             out,
             "no configuration meets the target: the most accurate is {} with {} error {:.4}",
-            describe(&closest.render),
+            closest.config().label(),
             args.measure,
-            closest.error(args.measure)
+            tuned.error(closest)
         )?;
         return Ok(false);
     };
     explain(out, &tuned, best)?;
     if args.area {
-        area(out, best.render.max_depth)?;
+        area(out, best.depth)?;
     }
     Ok(true)
 }
 
-fn line(e: &Evaluated) -> String {
+fn line(r: &Row) -> String {
     format!(
         "{}: {:.1} cycles/pixel, largest error {:.4}, mean {:.5}",
-        describe(&e.render),
-        e.cycles_per_pixel(),
-        e.max_error,
-        e.mean_error
+        r.config().label(),
+        r.cycles_per_pixel,
+        r.max_abs_error,
+        r.mean_abs_error
     )
 }
 
-fn explain(out: &mut impl Write, t: &Tuned, best: &Evaluated) -> Result<()> {
+fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
     let m = t.measure;
-    let full = t
-        .all
-        .iter()
-        .find(|e| {
-            e.render.max_depth == MAX_DEPTH
-                && e.render.weight_cutoff == 0.0
-                && (e.render.recip, e.render.sqrt)
-                    == (golden::fp::Method::Exact, golden::fp::Method::Exact)
-        })
-        .context("the full build is in the grid")?;
+    let full = t.full().context("the full build is in the grid")?;
     writeln!(out, "cheapest: {}", line(best))?;
     writeln!(out, "full build: {}", line(full))?;
     writeln!(
         out,
         "saves {:.1}% of the cycles",
-        100.0 * (1.0 - best.cycles_per_pixel() / full.cycles_per_pixel())
+        100.0 * (1.0 - best.cycles_per_pixel / full.cycles_per_pixel)
     )?;
     writeln!(out, "why:")?;
-    let r = best.render;
-    let err = |e: &Evaluated| e.error(m);
-    if r.max_depth > 1 {
+    let c = best.config();
+    let err = |r: &Row| t.error(r);
+    if c.depth > 1 {
         let shallower = t.neighbour(|x| {
-            x.max_depth -= 1;
-            if x.max_depth == 1 {
-                x.weight_cutoff = 0.0;
+            x.depth -= 1;
+            if x.depth == 1 {
+                x.cutoff = 0.0;
             }
         });
-        if let Some(e) = shallower {
+        if let Some(r) = shallower {
             writeln!(
                 out,
                 "  one level less ({}) would miss the target: {m} error {:.4} > {}",
-                describe(&e.render),
-                err(e),
+                r.config().label(),
+                err(r),
                 t.target
             )?;
         }
     } else {
         writeln!(out, "  depth 1, the least there is: no reflection at all")?;
     }
-    let next_cut = tune::CUTOFFS.iter().copied().find(|&c| c > r.weight_cutoff);
-    match next_cut.and_then(|c| t.neighbour(|x| x.weight_cutoff = c)) {
-        Some(e) if r.max_depth > 1 => writeln!(
+    let next_cut = CUTOFFS.iter().copied().find(|&x| x > c.cutoff);
+    match next_cut.and_then(|x| t.neighbour(|y| y.cutoff = x)) {
+        Some(r) if c.depth > 1 => writeln!(
             out,
             "  the next larger cutoff ({}) gives {m} error {:.4}{}",
-            describe(&e.render),
-            err(e),
-            if err(e) > t.target {
+            r.config().label(),
+            err(r),
+            if err(r) > t.target {
                 " (misses the target)"
             } else {
                 " but costs more cycles (two instructions per push it checks)"
@@ -157,26 +153,26 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Evaluated) -> Result<()> {
                 &mut x.sqrt
             };
             *m = match *m {
-                golden::fp::Method::Exact => golden::fp::Method::Fast,
-                golden::fp::Method::Fast => golden::fp::Method::Exact,
+                Method::Exact => Method::Fast,
+                Method::Fast => Method::Exact,
             };
         });
-        if let Some(e) = other {
+        if let Some(r) = other {
             writeln!(
                 out,
                 "  the other {what} method: {:+.1} cycles/pixel, {m} error {:.4}",
-                e.cycles_per_pixel() - best.cycles_per_pixel(),
-                err(e)
+                r.cycles_per_pixel - best.cycles_per_pixel,
+                err(r)
             )?;
         }
     }
-    if let Some(e) = t.best_cheaper() {
+    if let Some(r) = t.best_cheaper() {
         writeln!(
             out,
             "  the most accurate cheaper configuration, {}, costs {:.1} cycles/pixel less but has {m} error {:.4} > {}",
-            describe(&e.render),
-            best.cycles_per_pixel() - e.cycles_per_pixel(),
-            err(e),
+            r.config().label(),
+            best.cycles_per_pixel - r.cycles_per_pixel,
+            err(r),
             t.target
         )?;
     } else {
@@ -191,31 +187,31 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Evaluated) -> Result<()> {
     for (name, why) in &t.refused {
         writeln!(out, "  {name} off: {why}")?;
     }
-    rtl_parameters(out, &r)
+    rtl_parameters(out, &c)
 }
 
-fn rtl_parameters(out: &mut impl Write, r: &RenderSettings) -> Result<()> {
+fn rtl_parameters(out: &mut impl Write, c: &Config) -> Result<()> {
     let param = |m| match m {
-        golden::fp::Method::Exact => "`FP_METHOD_EXACT",
-        golden::fp::Method::Fast => "`FP_METHOD_FAST",
+        Method::Exact => "`FP_METHOD_EXACT",
+        Method::Fast => "`FP_METHOD_FAST",
     };
     writeln!(
         out,
         "RTL build: pixel_processor #(.STACK_DEPTH({}), .RECIP_METHOD({}), .SQRT_METHOD({}))",
-        r.max_depth,
-        param(r.recip),
-        param(r.sqrt)
+        c.depth,
+        param(c.recip),
+        param(c.sqrt)
     )?;
     writeln!(
         out,
         "scene [render]: max_depth = {}, recip = \"{}\", sqrt = \"{}\", weight_cutoff = {}, bounding_box = {}, fast_plane = {}, shadow_shortcut = {}",
-        r.max_depth,
-        r.recip.name(),
-        r.sqrt.name(),
-        r.weight_cutoff,
-        r.speedups.bounding_box,
-        r.speedups.fast_plane,
-        r.speedups.shadow_shortcut
+        c.depth,
+        c.recip.name(),
+        c.sqrt.name(),
+        c.cutoff,
+        c.speedups.bounding_box,
+        c.speedups.fast_plane,
+        c.speedups.shadow_shortcut
     )?;
     Ok(())
 }

@@ -7,7 +7,7 @@
 set -euo pipefail
 RTCOSIM=${1:-rtcosim}
 WORK=${2:-$(mktemp -d)}
-SWEEP=(sweep --scenes reference,mirror,box_room --size 200x150 --depths 1,2,4,8 --threads 1)
+SWEEP=(sweep --scenes reference,mirror,box_room --size 200x150 --depths 1,2,4,8 --cutoffs 0 --threads 1)
 FUZZ=(fuzz --seed 1 --count 2000 --threads 1 --failures "$WORK/failures")
 seconds() { /usr/bin/time -f %e "$@" 2>&1 >/dev/null | tail -1; }
 for tool in sweep fuzz; do

@@ -20,7 +20,8 @@
 //! somewhere; neither is allowed or guaranteed. So plotters draws the shapes
 //! only, and the labels are a list drawn afterwards: into the SVG as text
 //! elements (the viewer picks a sans-serif font), into the PNG with golden's
-//! built-in 5x7 bitmap font ([`golden::diffmap::font`]). Both files carry
+//! built-in bitmap font (embedded-graphics' FONT_6X9 via
+//! [`golden::diffmap::font`]). Both files carry
 //! the same labels at the same places.
 
 use super::{Row, SceneSweep, SweepError};

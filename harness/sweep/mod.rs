@@ -3,8 +3,8 @@
 //! cycle for cycle) and for accuracy (against the f64 reference renderer),
 //! the Pareto front of the two, and the front confirmed through the RTL.
 //!
-//! - [`Config`]: one point of the grid (methods, stack depth, speed-ups);
-//!   [`Grid`]: the lists it is the product of.
+//! - [`Config`]: one point of the grid (methods, stack depth, speed-ups,
+//!   weight cutoff); [`Grid`]: the lists it is the product of.
 //! - [`sweep_scene`]: renders every configuration the scene accepts with
 //!   [`golden::micro`] and measures it against [`golden::reference`];
 //!   configurations the scene refuses (a speed-up whose precondition it
@@ -50,16 +50,38 @@ pub const THESIS_CLOCK_HZ: f64 = 34.740e6;
 /// than 0.5 would be acceptable").
 pub const VISIBLE: f64 = 0.5;
 
+/// The weight cutoffs `tune` tries: off, and the powers of two 2^-8 (a
+/// weight that can move a channel by at most one 8-bit step) to 2^-1. Exact
+/// in f32 and f64, so both models compare against the same number.
+pub const CUTOFFS: [f32; 9] = [
+    0.0,
+    1.0 / 256.0,
+    1.0 / 128.0,
+    1.0 / 64.0,
+    1.0 / 32.0,
+    1.0 / 16.0,
+    1.0 / 8.0,
+    1.0 / 4.0,
+    1.0 / 2.0,
+];
+
+/// The cutoffs of the default sweep: off, one 8-bit step (2^-8) and 2^-4,
+/// three points of [`CUTOFFS`] that keep the grid at 704 configurations.
+pub const SWEEP_CUTOFFS: [f32; 3] = [0.0, 1.0 / 256.0, 1.0 / 16.0];
+
 /// One render configuration: what the grid varies. Everything else (the
 /// camera, the objects, any render setting this type does not name) is the
 /// scene's own: [`Config::apply`] replaces only these fields.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
     pub recip: Method,
     pub sqrt: Method,
     /// Ray stack depth, 1..=[`MAX_DEPTH`].
     pub depth: u32,
     pub speedups: Speedups,
+    /// `[render] weight_cutoff`: no reflection ray is spawned whose weight
+    /// is below it (0: off).
+    pub cutoff: f32,
 }
 
 impl Config {
@@ -72,6 +94,7 @@ impl Config {
             sqrt: Method::Exact,
             depth: MAX_DEPTH,
             speedups: Speedups::default(),
+            cutoff: 0.0,
         }
     }
 
@@ -90,33 +113,50 @@ impl Config {
                 fast_plane: true,
                 shadow_shortcut: true,
             },
+            cutoff: 0.0,
         }
     }
 
     /// `scene` with this configuration, validated again: a speed-up whose
     /// precondition the scene breaks is refused here, in the scene's words.
     pub fn apply(&self, scene: &Scene, origin: &str) -> Result<Scene, SceneError> {
-        // The update keeps every setting this type does not name (a future
-        // one, such as a weight cutoff, until it joins the grid).
+        // The update keeps every setting this type does not name (none
+        // today: the grid varies them all).
+        #[allow(clippy::needless_update)]
         let render = RenderSettings {
             max_depth: self.depth,
             speedups: self.speedups,
             recip: self.recip,
             sqrt: self.sqrt,
+            weight_cutoff: self.cutoff,
             ..scene.render
         };
         scene.with_render(render, origin)
     }
 
-    /// A short name: `depth 4, recip exact, sqrt fast, fp+ss`.
+    /// A short name: `depth 4, recip exact, sqrt fast, fp+ss, cutoff 1/256`.
     pub fn label(&self) -> String {
         format!(
-            "depth {}, recip {}, sqrt {}, {}",
+            "depth {}, recip {}, sqrt {}, {}, {}",
             self.depth,
             self.recip,
             self.sqrt,
-            speedup_label(self.speedups)
+            speedup_label(self.speedups),
+            cutoff_label(self.cutoff)
         )
+    }
+}
+
+/// `cutoff 1/256` for a power-of-two cutoff, `cutoff 0.3` otherwise, `no
+/// cutoff` for 0.
+pub fn cutoff_label(c: f32) -> String {
+    let inverse = 1.0 / f64::from(c);
+    if c == 0.0 {
+        "no cutoff".into()
+    } else if inverse.fract() == 0.0 {
+        format!("cutoff 1/{inverse}")
+    } else {
+        format!("cutoff {c}")
     }
 }
 
@@ -139,24 +179,24 @@ pub fn speedup_label(s: Speedups) -> String {
 }
 
 /// The grid: the product of these lists, in this order (recip, sqrt,
-/// depth, speed-ups), which is the order of the CSV's rows.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// depth, speed-ups, cutoff), which is the order of the CSV's rows. Depth 1
+/// spawns no reflection, so it takes only cutoff 0 (the others would be
+/// the same configuration).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     pub recips: Vec<Method>,
     pub sqrts: Vec<Method>,
     pub depths: Vec<u32>,
     pub speedups: Vec<Speedups>,
+    pub cutoffs: Vec<f32>,
 }
 
 impl Grid {
-    /// Both methods of each unit, every depth 1..=8, each speed-up on and
-    /// off (8 combinations): 256 configurations.
+    /// The sweep's grid: both methods of each unit, every depth 1..=8, each
+    /// speed-up on and off (8 combinations), the cutoffs of
+    /// [`SWEEP_CUTOFFS`]: 4 x 8 x (1 + 7 x 3) = 704 configurations.
     pub fn full() -> Grid {
-        let both = vec![Method::Exact, Method::Fast];
         Grid {
-            recips: both.clone(),
-            sqrts: both,
-            depths: (1..=MAX_DEPTH).collect(),
             speedups: (0..8u8)
                 .map(|bits| Speedups {
                     bounding_box: bits & 4 != 0,
@@ -164,6 +204,23 @@ impl Grid {
                     shadow_shortcut: bits & 1 != 0,
                 })
                 .collect(),
+            cutoffs: SWEEP_CUTOFFS.to_vec(),
+            ..Grid::tune(Speedups::default())
+        }
+    }
+
+    /// `tune`'s grid: both methods of each unit, every depth, every cutoff
+    /// of [`CUTOFFS`], and the one set of speed-ups given (those whose
+    /// preconditions the scene meets: they change only the cycles, never
+    /// the image): 4 x (1 + 7 x 9) = 256 configurations.
+    pub fn tune(speedups: Speedups) -> Grid {
+        let both = vec![Method::Exact, Method::Fast];
+        Grid {
+            recips: both.clone(),
+            sqrts: both,
+            depths: (1..=MAX_DEPTH).collect(),
+            speedups: vec![speedups],
+            cutoffs: CUTOFFS.to_vec(),
         }
     }
 
@@ -174,12 +231,15 @@ impl Grid {
             for &sqrt in &self.sqrts {
                 for &depth in &self.depths {
                     for &speedups in &self.speedups {
-                        out.push(Config {
-                            recip,
-                            sqrt,
-                            depth,
-                            speedups,
-                        });
+                        for &cutoff in self.cutoffs.iter().filter(|&&c| depth > 1 || c == 0.0) {
+                            out.push(Config {
+                                recip,
+                                sqrt,
+                                depth,
+                                speedups,
+                                cutoff,
+                            });
+                        }
                     }
                 }
             }
@@ -205,6 +265,8 @@ pub struct Row {
     pub bounding_box: bool,
     pub fast_plane: bool,
     pub shadow_shortcut: bool,
+    /// `[render] weight_cutoff` (0: off).
+    pub weight_cutoff: f32,
     /// Mean cycles per pixel (the micro-op model's = the RTL's).
     pub cycles_per_pixel: f64,
     /// The slowest pixel's cycles.
@@ -257,6 +319,7 @@ impl Row {
                 fast_plane: self.fast_plane,
                 shadow_shortcut: self.shadow_shortcut,
             },
+            cutoff: self.weight_cutoff,
         }
     }
 }
@@ -436,6 +499,7 @@ fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_
         bounding_box: config.speedups.bounding_box,
         fast_plane: config.speedups.fast_plane,
         shadow_shortcut: config.speedups.shadow_shortcut,
+        weight_cutoff: config.cutoff,
         cycles_per_pixel: stats.mean_cycles(),
         max_cycles: stats.max_cycles,
         frame_cycles: stats.cycles,

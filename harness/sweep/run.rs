@@ -44,6 +44,8 @@ pub struct RunConfig {
     pub scenes: Vec<NamedScene>,
     /// Stack depths of the grid (empty: every depth).
     pub depths: Vec<u32>,
+    /// Weight cutoffs of the grid (empty: the sweep's default ones).
+    pub cutoffs: Vec<f32>,
     pub clock_mhz: f64,
     /// Whether the front is co-simulated on the RTL, and how.
     pub rtl: bool,
@@ -62,6 +64,9 @@ impl RunConfig {
         let mut grid = Grid::full();
         if !self.depths.is_empty() {
             grid.depths = self.depths.clone();
+        }
+        if !self.cutoffs.is_empty() {
+            grid.cutoffs = self.cutoffs.clone();
         }
         grid
     }

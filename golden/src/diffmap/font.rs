@@ -1,102 +1,89 @@
-//! A 5x7 bitmap font for the legends of the heat maps and the labels of the
-//! sweep's PNG chart (rtcosim::sweep::chart): the digits, the lower-case
-//! letters, the few capitals and signs their labels use. Built in, so
-//! drawing a label needs no font file and no system library.
+//! The text of the heat maps' legends and of the sweep's PNG chart
+//! (rtcosim::sweep::chart): embedded-graphics' built-in 6x9 monospace
+//! bitmap font (`mono_font::ascii::FONT_6X9`, printable ASCII), drawn
+//! through a callback so any image type can take it. Built in, so drawing
+//! a label needs no font file and no system library.
 
-/// Glyph cell: 5 columns and 7 rows of ink, one column and one row of space.
-pub const GLYPH_WIDTH: u32 = 5;
-pub const GLYPH_HEIGHT: u32 = 7;
-pub const ADVANCE: u32 = GLYPH_WIDTH + 1;
+use embedded_graphics::mono_font::ascii::FONT_6X9;
+use embedded_graphics::mono_font::{MonoFont, MonoTextStyle};
+use embedded_graphics::pixelcolor::BinaryColor;
+use embedded_graphics::prelude::*;
+use embedded_graphics::text::{Baseline, Text};
+use std::convert::Infallible;
 
-/// The rows of `c`, top first, bit 4 the leftmost column; `None` for a
-/// character the font does not have.
-pub fn glyph(c: char) -> Option<[u8; 7]> {
-    Some(match c {
-        '0' => [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E],
-        '1' => [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        '2' => [0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F],
-        '3' => [0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E],
-        '4' => [0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02],
-        '5' => [0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E],
-        '6' => [0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E],
-        '7' => [0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08],
-        '8' => [0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E],
-        '9' => [0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C],
-        ' ' => [0; 7],
-        '-' => [0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00],
-        '+' => [0x00, 0x04, 0x04, 0x1F, 0x04, 0x04, 0x00],
-        '.' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C],
-        '/' => [0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00],
-        '|' => [0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04],
-        '>' => [0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08],
-        '_' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1F],
-        ':' => [0x00, 0x0C, 0x0C, 0x00, 0x0C, 0x0C, 0x00],
-        ',' => [0x00, 0x00, 0x00, 0x00, 0x0C, 0x04, 0x08],
-        '=' => [0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00],
-        '(' => [0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02],
-        ')' => [0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08],
-        'A' => [0x0E, 0x11, 0x11, 0x11, 0x1F, 0x11, 0x11],
-        'H' => [0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11],
-        'L' => [0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F],
-        'M' => [0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11],
-        'P' => [0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10],
-        'R' => [0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11],
-        'T' => [0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04],
-        'c' => [0x00, 0x00, 0x0E, 0x10, 0x10, 0x11, 0x0E],
-        'h' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11],
-        'j' => [0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0C],
-        'k' => [0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12],
-        'o' => [0x00, 0x00, 0x0E, 0x11, 0x11, 0x11, 0x0E],
-        'q' => [0x00, 0x00, 0x0D, 0x13, 0x0F, 0x01, 0x01],
-        'v' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x0A, 0x04],
-        'w' => [0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0A],
-        'y' => [0x00, 0x00, 0x11, 0x11, 0x0F, 0x01, 0x0E],
-        'z' => [0x00, 0x00, 0x1F, 0x02, 0x04, 0x08, 0x1F],
-        'N' => [0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11],
-        'a' => [0x00, 0x00, 0x0E, 0x01, 0x0F, 0x11, 0x0F],
-        'b' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E],
-        'd' => [0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F],
-        'e' => [0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E],
-        'f' => [0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08],
-        'i' => [0x04, 0x00, 0x0C, 0x04, 0x04, 0x04, 0x0E],
-        'l' => [0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        'm' => [0x00, 0x00, 0x1A, 0x15, 0x15, 0x11, 0x11],
-        'n' => [0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11],
-        'g' => [0x00, 0x00, 0x0F, 0x11, 0x0F, 0x01, 0x0E],
-        'p' => [0x00, 0x00, 0x1E, 0x11, 0x1E, 0x10, 0x10],
-        'r' => [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10],
-        's' => [0x00, 0x00, 0x0E, 0x10, 0x0E, 0x01, 0x1E],
-        't' => [0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06],
-        'u' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0D],
-        'x' => [0x00, 0x00, 0x11, 0x0A, 0x04, 0x0A, 0x11],
-        _ => return None,
-    })
+/// The font.
+const FONT: MonoFont<'static> = FONT_6X9;
+
+/// Height of a line of text at scale 1, in pixels.
+pub const GLYPH_HEIGHT: u32 = FONT.character_size.height;
+
+/// Horizontal distance from one character to the next at scale 1.
+pub const ADVANCE: u32 = FONT.character_size.width + FONT.character_spacing;
+
+/// Whether the font has a glyph of its own for `c` (it draws any other
+/// character as its replacement glyph, `?`).
+pub fn has_glyph(c: char) -> bool {
+    let index = |c| FONT.glyph_mapping.index(c);
+    c == '?' || index(c) != index('?')
 }
 
-/// Width in pixels of `text` drawn at `scale` (no trailing space).
+/// Width in pixels of `text` drawn at `scale`.
 pub fn text_width(text: &str, scale: u32) -> u32 {
-    let n = text.chars().count() as u32;
-    (n * ADVANCE).saturating_sub(1) * scale
+    text.chars().count() as u32 * ADVANCE * scale
 }
 
 /// Calls `ink(x, y)` for every inked pixel of `text` with its top-left
-/// corner at (x, y), each font pixel a `scale` x `scale` square. A
-/// character without a glyph is drawn as a filled box, visibly wrong.
+/// corner at (x, y), each font pixel a `scale` x `scale` square.
 pub fn draw_text(text: &str, x: u32, y: u32, scale: u32, ink: &mut impl FnMut(u32, u32)) {
-    for (i, c) in text.chars().enumerate() {
-        let rows = glyph(c).unwrap_or([0x1F; 7]);
-        let left = x + i as u32 * ADVANCE * scale;
-        for (row, bits) in rows.iter().enumerate() {
-            for col in 0..GLYPH_WIDTH {
-                if bits & (0x10 >> col) != 0 {
-                    for dy in 0..scale {
-                        for dx in 0..scale {
-                            ink(left + col * scale + dx, y + row as u32 * scale + dy);
-                        }
+    let mut target = Ink {
+        ink,
+        x,
+        y,
+        scale: scale.max(1),
+    };
+    let style = MonoTextStyle::new(&FONT, BinaryColor::On);
+    Text::with_baseline(text, Point::zero(), style, Baseline::Top)
+        .draw(&mut target)
+        .unwrap_or_else(|never| match never {});
+}
+
+/// A draw target that scales each lit pixel and hands it to a callback.
+struct Ink<'a, F> {
+    ink: &'a mut F,
+    x: u32,
+    y: u32,
+    scale: u32,
+}
+
+impl<F> OriginDimensions for Ink<'_, F> {
+    fn size(&self) -> Size {
+        // Large enough for any label: text is only ever drawn from (0, 0).
+        Size::new(u32::MAX / 2, u32::MAX / 2)
+    }
+}
+
+impl<F: FnMut(u32, u32)> DrawTarget for Ink<'_, F> {
+    type Color = BinaryColor;
+    type Error = Infallible;
+
+    fn draw_iter<I>(&mut self, pixels: I) -> Result<(), Infallible>
+    where
+        I: IntoIterator<Item = Pixel<BinaryColor>>,
+    {
+        let s = self.scale;
+        for Pixel(p, colour) in pixels {
+            let (Ok(px), Ok(py)) = (u32::try_from(p.x), u32::try_from(p.y)) else {
+                continue;
+            };
+            if colour.is_on() {
+                for dy in 0..s {
+                    for dx in 0..s {
+                        (self.ink)(self.x + px * s + dx, self.y + py * s + dy);
                     }
                 }
             }
         }
+        Ok(())
     }
 }
 
@@ -105,30 +92,38 @@ mod tests {
     use super::*;
 
     #[test]
-    fn glyphs_use_only_five_columns() {
-        for c in (' '..='~').filter_map(glyph) {
-            assert!(c.iter().all(|&row| row < 0x20), "{c:?}");
-        }
+    fn printable_ascii_has_glyphs_and_other_characters_do_not() {
+        assert!((' '..='~').all(has_glyph));
+        assert!(!has_glyph('é') && !has_glyph('\u{2264}'));
     }
 
     #[test]
-    fn every_lower_case_letter_has_a_glyph() {
-        let missing: String = ('a'..='z').filter(|&c| glyph(c).is_none()).collect();
-        assert!(missing.is_empty(), "no glyph for {missing:?}");
-    }
-
-    #[test]
-    fn a_one_is_drawn_where_its_rows_say() {
+    fn text_is_drawn_inside_its_box_and_scales() {
         let mut ink = Vec::new();
-        draw_text("1", 10, 20, 1, &mut |x, y| ink.push((x, y)));
-        // Row 0 of '1' is ..#.. and row 6 is .###.: 13 pixels in all.
-        assert!(ink.contains(&(12, 20)));
-        assert!(!ink.contains(&(10, 20)));
-        assert!(ink.contains(&(11, 26)) && ink.contains(&(13, 26)));
-        assert_eq!(ink.len(), 1 + 2 + 1 + 1 + 1 + 1 + 3);
+        draw_text("1e-5", 10, 20, 1, &mut |x, y| ink.push((x, y)));
+        assert!(!ink.is_empty());
+        let w = text_width("1e-5", 1);
+        assert_eq!(w, 4 * ADVANCE);
+        assert!(ink
+            .iter()
+            .all(|&(x, y)| (10..10 + w).contains(&x) && (20..20 + GLYPH_HEIGHT).contains(&y)));
+        // A space inks nothing; each font pixel becomes scale^2 pixels.
+        let mut space = 0;
+        draw_text(" ", 0, 0, 3, &mut |_, _| space += 1);
+        assert_eq!(space, 0);
         let mut big = 0;
-        draw_text("1", 0, 0, 2, &mut |_, _| big += 1);
+        draw_text("1e-5", 0, 0, 2, &mut |_, _| big += 1);
         assert_eq!(big, 4 * ink.len());
-        assert_eq!(text_width("1e-5", 1), 4 * 6 - 1);
+    }
+
+    #[test]
+    fn different_characters_ink_different_pixels() {
+        let pixels = |c: &str| {
+            let mut v = Vec::new();
+            draw_text(c, 0, 0, 1, &mut |x, y| v.push((x, y)));
+            v
+        };
+        assert_ne!(pixels("1"), pixels("7"));
+        assert_ne!(pixels("e"), pixels("c"));
     }
 }
