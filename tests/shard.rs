@@ -311,24 +311,16 @@ fn the_fuzz_array_script_merges_to_the_unsharded_run() {
     );
 }
 
+/// A sweep of the reference scene small enough for refusals: 32
+/// configurations of 8x6 pixels, no RTL.
+const TINY_SWEEP: [&str; 6] = ["sweep", "--size", "8x6", "--depths", "1", "--no-rtl"];
+
 /// Writes the shard `k/n` of a tiny sweep (no RTL) with `extra` options
 /// into `dir`, and returns its file.
 fn sweep_shard(dir: &Path, k: u64, n: u64, extra: &[&str]) -> PathBuf {
     let shard = format!("{k}/{n}");
-    let mut args = vec![
-        "sweep",
-        "--scene",
-        "reference",
-        "--size",
-        "8x6",
-        "--depths",
-        "1",
-        "--no-rtl",
-        "--out",
-        arg(dir),
-        "--shard",
-        &shard,
-    ];
+    let mut args = TINY_SWEEP.to_vec();
+    args.extend(["--out", arg(dir), "--shard", &shard]);
     args.extend_from_slice(extra);
     ok(rtcosim(&args, &[]), &shard);
     dir.join(format!("sweep-{k}-of-{n}.shard.json"))
@@ -490,16 +482,8 @@ fn bad_shards_are_refused_naming_the_flag_or_variable() {
         ),
     ];
     for (extra, vars, message) in cases {
-        let mut args = vec![
-            "sweep",
-            "--size",
-            "8x6",
-            "--depths",
-            "1",
-            "--no-rtl",
-            "--out",
-            arg(&dir),
-        ];
+        let mut args = TINY_SWEEP.to_vec();
+        args.extend(["--out", arg(&dir)]);
         args.extend_from_slice(extra);
         let vars: Vec<(&str, String)> = vars.iter().map(|(k, v)| (*k, v.to_string())).collect();
         let out = rtcosim(&args, &vars);
