@@ -26,6 +26,7 @@
 //!   with a GTKWave save file and state-name filter.
 //! - [`tune`]: the cheapest configuration that meets an error target.
 
+pub mod area;
 pub mod artefacts;
 mod bridge;
 pub mod compare;

@@ -3,10 +3,11 @@
 //! with --area the register file it needs against the full build's.
 
 use crate::args::{SceneArgs, ThreadsArgs};
-use crate::ui::progress_bar;
+use crate::ui::{progress_bar, progress_spinner};
 use anyhow::{Context, Result};
 use golden::fp::Method;
 use golden::scene::MAX_DEPTH;
+use rtcosim::area::{self, FloatUnit, UnitArea, Yosys};
 use rtcosim::sweep::{Config, Row, CUTOFFS};
 use rtcosim::tune::{self, Measure, Tuned};
 use std::io::Write;
@@ -24,8 +25,10 @@ pub struct TuneArgs {
     /// or the mean.
     #[arg(long, value_enum, default_value_t = Measure::Max)]
     pub measure: Measure,
-    /// Also measure the register file of the tuned build against the full
-    /// build's (STACK_DEPTH 8) with yosys (about a second).
+    /// Also measure with yosys what the tuned build needs against the full
+    /// build: the register file (STACK_DEPTH; about a second) and the
+    /// reciprocal and square-root units in their methods (a synthesis of
+    /// minutes per unit the first time, then cached under target/).
     #[arg(long)]
     pub area: bool,
     #[command(flatten)]
@@ -83,7 +86,7 @@ pub fn run(args: TuneArgs) -> Result<bool> {
     };
     explain(out, &tuned, best)?;
     if args.area {
-        area(out, best.depth)?;
+        area(out, &best.config())?;
     }
     Ok(true)
 }
@@ -216,18 +219,56 @@ fn rtl_parameters(out: &mut impl Write, c: &Config) -> Result<()> {
     Ok(())
 }
 
-fn area(out: &mut impl Write, depth: u32) -> Result<()> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl/pp");
-    let tuned = tune::register_file_area(&dir, depth)?;
-    let full = tune::register_file_area(&dir, MAX_DEPTH)?;
+fn area(out: &mut impl Write, tuned: &Config) -> Result<()> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let yosys = Yosys::new();
+    let depth = tuned.depth;
+    let rf = area::register_file_area(&yosys, &root.join("rtl/pp"), depth)?;
+    let rf_full = area::register_file_area(&yosys, &root.join("rtl/pp"), MAX_DEPTH)?;
     writeln!(
         out,
-        "area (yosys proc; opt, before techmap, of memory + mem_ctrl): register file {} storage bits and {} cells at STACK_DEPTH {depth}, against {} bits and {} cells at {MAX_DEPTH} ({:.1}% of the storage)",
-        tuned.memory_bits,
-        tuned.cells,
-        full.memory_bits,
-        full.cells,
-        100.0 * tuned.memory_bits as f64 / full.memory_bits as f64
+        "area, register file (yosys proc; opt of memory + mem_ctrl, before techmap): {} storage bits and {} cells at STACK_DEPTH {depth}, against {} bits and {} cells at {MAX_DEPTH} ({:.1}% of the storage)",
+        rf.memory_bits,
+        rf.cells,
+        rf_full.memory_bits,
+        rf_full.cells,
+        100.0 * rf.memory_bits as f64 / rf_full.memory_bits as f64
     )?;
+    let fp = root.join("rtl/fp");
+    for (unit, method) in [
+        (FloatUnit::Recip, tuned.recip),
+        (FloatUnit::Sqrt, tuned.sqrt),
+    ] {
+        let measure = |m: Method| -> Result<UnitArea> {
+            let spinner = progress_spinner("yosys    ", "{msg} {elapsed}")?;
+            spinner.set_message(format!(
+                "{} ({}): a synthesis of minutes the first time, then cached in {}",
+                unit.module(),
+                m.name(),
+                yosys.cache.display()
+            ));
+            spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+            let a = area::float_unit_area(&yosys, &fp, unit, m)?;
+            spinner.finish_and_clear();
+            Ok(a)
+        };
+        let t = measure(method)?;
+        let full = measure(Method::Exact)?;
+        writeln!(
+            out,
+            "area, {} (yosys synth -flatten, generic cells): {} cells and {} flip-flops ({}), against {} cells and {} flip-flops (exact){}",
+            unit.module(),
+            t.cells,
+            t.flip_flops,
+            method.name(),
+            full.cells,
+            full.flip_flops,
+            if method == Method::Exact {
+                String::new()
+            } else {
+                format!(": {:.1}% of the cells", 100.0 * t.cells as f64 / full.cells as f64)
+            }
+        )?;
+    }
     Ok(())
 }

@@ -5,6 +5,7 @@
 
 use super::types::{Material, Vec3f};
 use super::Scene;
+use std::hash::Hasher;
 
 /// A stable 64-bit FNV-1a hash of what is rendered: the camera (with the
 /// image size), the light, every object and its material (the bits of the
@@ -58,18 +59,18 @@ pub(super) fn config_hash(scene: &Scene) -> u64 {
     h.finish()
 }
 
-struct Fnv1a(u64);
+/// 64-bit FNV-1a (the `fnv` crate) over the fields in a fixed order, each
+/// number as its little-endian bytes: stable across platforms and Rust
+/// versions, unlike `std`'s `DefaultHasher`.
+struct Fnv1a(fnv::FnvHasher);
 
 impl Fnv1a {
     fn new() -> Fnv1a {
-        Fnv1a(0xcbf2_9ce4_8422_2325)
+        Fnv1a(fnv::FnvHasher::default())
     }
 
     fn bytes(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
+        self.0.write(bytes);
     }
 
     fn u32(&mut self, x: u32) {
@@ -92,6 +93,6 @@ impl Fnv1a {
     }
 
     fn finish(&self) -> u64 {
-        self.0
+        self.0.finish()
     }
 }
