@@ -455,10 +455,13 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
     assert!(e.contains("no shard files (*.shard.json)"), "{e}");
 }
 
+/// Variables of an environment, name and value.
+type Vars<'a> = &'a [(&'a str, &'a str)];
+
 #[test]
 fn bad_shards_are_refused_naming_the_flag_or_variable() {
     let dir = scratch("shard", "bad");
-    let cases: [(&[&str], &[(&str, &str)], &str); 5] = [
+    let cases: [(&[&str], Vars, &str); 5] = [
         (
             &["--shard", "3/3"],
             &[],

@@ -115,9 +115,12 @@ fn a_kubernetes_index_takes_its_count_from_the_flag_or_the_environment() {
     );
 }
 
+/// Variables of an environment, name and value.
+type Vars<'a> = &'a [(&'a str, &'a str)];
+
 #[test]
 fn bad_or_conflicting_environments_are_refused_naming_the_variables() {
-    let cases: [(&[(&str, &str)], Option<u64>, &str); 7] = [
+    let cases: [(Vars, Option<u64>, &str); 7] = [
         (
             &[("SLURM_ARRAY_TASK_ID", "0"), ("JOB_COMPLETION_INDEX", "0")],
             Some(2),
