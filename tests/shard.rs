@@ -212,6 +212,76 @@ fn fuzz_shards_merge_to_the_unsharded_campaign_byte_for_byte() {
     assert_eq!(differences(&whole, &merged).len(), 1);
 }
 
+/// A campaign and a sweep that fail (an injected RTL fault) merge to the
+/// same failure, with the same exit status 1, as their unsharded runs.
+#[test]
+fn failing_runs_merge_to_the_same_failure() {
+    let dir = scratch("shard", "failing");
+    let failures = dir.join("failures");
+    let fuzz = [
+        "fuzz",
+        "--seed",
+        "4",
+        "--count",
+        "8",
+        "--fault",
+        "PRI_HALF:0x400",
+        "--failures",
+        arg(&failures),
+    ];
+    let sweep = [
+        "sweep",
+        "--size",
+        "16x12",
+        "--depths",
+        "2",
+        "--cutoffs",
+        "0",
+        "--sample",
+        "8",
+        "--fault",
+        "PRI_HALF:0x400",
+    ];
+    for (name, args, outputs) in [
+        ("fuzz", &fuzz[..], &["fuzz-report.txt"][..]),
+        (
+            "sweep",
+            &sweep[..],
+            &[
+                "chart-reference.png",
+                "chart-reference.svg",
+                "sweep.csv",
+                "sweep.json",
+            ][..],
+        ),
+    ] {
+        let (whole, shards, merged) = (
+            dir.join(format!("{name}-whole")),
+            dir.join(format!("{name}-shards")),
+            dir.join(format!("{name}-merged")),
+        );
+        let mut v = args.to_vec();
+        v.extend(["--out", arg(&whole)]);
+        let out = rtcosim(&v, &[]);
+        assert_eq!(out.status.code(), Some(1), "{name}: {}", both(&out));
+        for k in 0..2 {
+            let shard = format!("{k}/2");
+            let mut v = args.to_vec();
+            v.extend(["--out", arg(&shards), "--shard", &shard]);
+            rtcosim(&v, &[]);
+            assert!(shards.join(format!("{name}-{k}-of-2.shard.json")).is_file());
+        }
+        let out = rtcosim(&["merge", arg(&shards), "--out", arg(&merged)], &[]);
+        assert_eq!(out.status.code(), Some(1), "{name}: {}", both(&out));
+        assert!(
+            text(&out.stdout).contains("FAILED"),
+            "{name}: {}",
+            both(&out)
+        );
+        assert_same_outputs(&whole, &merged, outputs);
+    }
+}
+
 /// The array range of a script's `#SBATCH --array=A-B` line.
 fn array_range(script: &str) -> (u64, u64) {
     let line = script
@@ -447,6 +517,25 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
     );
     let e = refused(&[&items]);
     assert!(e.contains("items.json: damaged: shard 0/3"), "{e}");
+
+    // A row that is not its item's configuration (the result is not
+    // hashed: the rows are checked against the work list).
+    let swapped = damaged(
+        "swapped.json",
+        text0.replacen(
+            "\"reference\",\"8\",\"6\",\"exact\"",
+            "\"reference\",\"8\",\"6\",\"fast\"",
+            1,
+        ),
+    );
+    assert_ne!(std::fs::read_to_string(&swapped).expect("written"), text0);
+    let set = [&swapped, &a.join("sweep-1-of-3.shard.json"), &s2];
+    sweep_shard(&a, 1, 3, &[]);
+    let e = refused(&set.map(|p| p.as_path()));
+    assert!(
+        e.contains("swapped.json: damaged: item") && e.contains("should be depth 1, recip exact"),
+        "{e}"
+    );
 
     // A directory without shard files.
     let empty = dir.join("empty");
