@@ -89,16 +89,13 @@ fn list(v: &[u64]) -> String {
     }
 }
 
-/// FNV-1a 64 of `config`'s JSON text (serde_json's maps keep keys
-/// sorted), in hex.
+/// FNV-1a 64 (the `fnv` crate) of `config`'s JSON text (serde_json's
+/// maps keep keys sorted), in hex.
 pub fn config_hash(config: &Value) -> String {
-    let text = config.to_string();
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    format!("{h:016x}")
+    use std::hash::Hasher;
+    let mut h = fnv::FnvHasher::default();
+    h.write(config.to_string().as_bytes());
+    format!("{:016x}", h.finish())
 }
 
 /// The configuration of a run of `tool`: `options` (every option that
