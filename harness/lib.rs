@@ -15,6 +15,8 @@
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
 //! - [`sweep`]: speed against accuracy over a grid of configurations.
+//! - [`shard`]: one long run split into disjoint slices for a cluster's
+//!   array job, and the checks that merge them back (docs/scale.md).
 //! - [`trace_files`]: trace-file headers and writers for a window, of the
 //!   golden model and of the RTL.
 //! - [`trace_diff`]: two trace files through the comparison engine.
@@ -36,6 +38,7 @@ pub mod operands;
 pub mod pixel_proc;
 pub mod rtl_source;
 pub mod scenes;
+pub mod shard;
 pub mod sweep;
 pub mod trace_diff;
 pub mod trace_files;

@@ -8,6 +8,7 @@ use golden::scene::{Scene, MAX_IMAGE_SIDE};
 use golden::window::Window;
 use rtcosim::pixel_proc::{parse_number, Fault};
 use rtcosim::scenes::{self, Overrides};
+use rtcosim::shard::Shard;
 use std::path::Path;
 
 /// The scene and what a command line may change in it.
@@ -170,4 +171,28 @@ pub fn check_parent_dir(flag: &str, path: &Path) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Which shard of a run this process is (docs/scale.md).
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShardArgs {
+    /// Run only shard K of N (K from 0: 0/4 .. 3/4) and write its shard
+    /// file into --out, for `rtcosim merge`. Without it, the shard is read
+    /// from a Slurm array task (SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN
+    /// of SLURM_ARRAY_TASK_COUNT) or a Kubernetes Indexed Job
+    /// (JOB_COMPLETION_INDEX of --shard-count or RTCOSIM_SHARD_COUNT); with
+    /// neither, the whole run.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// The shard count that goes with a Kubernetes JOB_COMPLETION_INDEX
+    /// (the Job's completions).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub shard_count: Option<u64>,
+}
+
+impl ShardArgs {
+    /// The shard, from the flags or the environment; `None`: the whole run.
+    pub fn resolve(&self) -> Result<Option<Shard>> {
+        Ok(Shard::resolve(self.shard, self.shard_count)?)
+    }
 }

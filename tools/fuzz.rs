@@ -1,14 +1,17 @@
 //! `rtcosim fuzz`: random scenes, each refused at load or co-simulated with
 //! 0 divergences and finite colours.
 
-use crate::args::{parse_cycles, parse_fault, ThreadsArgs};
+use crate::args::{parse_cycles, parse_fault, ShardArgs, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
-use rtcosim::fuzz::{self, Fate, FuzzOptions, FuzzReport};
+use rtcosim::fuzz::summary::{self, Campaign, Summary};
+use rtcosim::fuzz::{self, FuzzOptions};
 use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::shard::file::{self as shard_file, ShardFile};
+use rtcosim::shard::Shard;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
@@ -28,6 +31,12 @@ pub struct FuzzArgs {
     pub failures: PathBuf,
     #[command(flatten)]
     pub threads: ThreadsArgs,
+    #[command(flatten)]
+    pub shard: ShardArgs,
+    /// Write the report to DIR/fuzz-report.txt (a shard: its
+    /// fuzz-K-of-N.shard.json, for `rtcosim merge`).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     /// Self-test of the campaign: inject this fault (as `cosim --fault`)
     /// into the RTL of every scene, so the campaign must fail.
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
@@ -37,18 +46,39 @@ pub struct FuzzArgs {
     pub timeout_cycles: u64,
 }
 
-/// Returns whether every scene kept the promise.
+/// Returns whether every scene kept the promise (a shard's, its scenes).
 pub fn run(args: FuzzArgs) -> Result<bool> {
+    let shard = args.shard.resolve()?;
+    if let (Some(shard), None) = (shard, &args.out) {
+        anyhow::bail!("shard {shard}: a shard writes its shard file into --out DIR; give --out");
+    }
+    if let Some(out) = &args.out {
+        std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
+    }
+    let campaign = Campaign {
+        seed: args.seed,
+        first: args.first,
+        count: args.count,
+        timeout_cycles: args.timeout_cycles,
+        fault: args.fault.map(|f| f.to_string()),
+        failures: args.failures.display().to_string(),
+        verilator: rtcosim::VERILATOR_VERSION.into(),
+    };
+    let indices = campaign.indices(shard.unwrap_or(Shard::WHOLE));
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim fuzz: {} scene{} from index {}, seed {}, {threads} thread{}, {}",
+        "rtcosim fuzz: {} scene{} from index {}, seed {}{}, {threads} thread{}, {}",
         args.count,
         plural(args.count),
         args.first,
         args.seed,
+        shard.map_or(String::new(), |s| format!(
+            ", shard {s} ({} scenes)",
+            indices.len()
+        )),
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
@@ -63,17 +93,56 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         fault: args.fault,
     };
     let bar = progress_bar(
-        args.count,
+        indices.len() as u64,
         "fuzzing",
         "{pos}/{len} scenes ({per_sec}, {eta})",
     )?;
     let start = Instant::now();
     let report = pool
-        .install(|| fuzz::run(&options, &|n| bar.inc(n)))
+        .install(|| fuzz::run_indices(&options, &indices, &|n| bar.inc(n)))
         .with_context(|| format!("writing failing scenes to {}", args.failures.display()))?;
     bar.finish_and_clear();
-    print_summary(&mut out, &report, start.elapsed().as_secs_f64())?;
-    Ok(report.passed())
+    let seconds = start.elapsed().as_secs_f64();
+    let summary = Summary::from(&report);
+    match (shard, &args.out) {
+        (Some(shard), Some(dir)) => {
+            report_text(&mut out, &summary)?;
+            let file = ShardFile::new(
+                summary::TOOL,
+                shard_file::run_config(&campaign),
+                shard,
+                campaign.count,
+                &summary,
+            );
+            writeln!(out, "wrote {}", file.write(dir)?.display())?;
+        }
+        _ => finish(&mut out, &summary, args.out.as_deref())?,
+    }
+    writeln!(
+        out,
+        "{} scenes in {seconds:.1} s ({:.1} scenes/s)",
+        summary.scenes,
+        summary.scenes as f64 / seconds.max(1e-9)
+    )?;
+    Ok(summary.passed())
+}
+
+/// The report's file name in --out.
+pub const REPORT: &str = "fuzz-report.txt";
+
+/// The report of a whole campaign: printed, and written to
+/// `DIR/fuzz-report.txt` with `--out DIR`. The unsharded campaign and
+/// `rtcosim merge` both end here.
+pub fn finish(out: &mut impl Write, summary: &Summary, dir: Option<&Path>) -> Result<()> {
+    let mut text = Vec::new();
+    report_text(&mut text, summary)?;
+    out.write_all(&text)?;
+    if let Some(dir) = dir {
+        let path = dir.join(REPORT);
+        std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
+        writeln!(out, "wrote {}", path.display())?;
+    }
+    Ok(())
 }
 
 fn percent(part: u64, whole: u64) -> f64 {
@@ -89,7 +158,9 @@ fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[i]
 }
 
-fn print_summary(out: &mut impl Write, r: &FuzzReport, seconds: f64) -> std::io::Result<()> {
+/// The report: what the campaign found, without how long it took (so
+/// that a merge of shards prints it byte for byte).
+fn report_text(out: &mut impl Write, r: &Summary) -> std::io::Result<()> {
     let refused = r.scenes - r.accepted;
     writeln!(
         out,
@@ -111,22 +182,21 @@ fn print_summary(out: &mut impl Write, r: &FuzzReport, seconds: f64) -> std::io:
         let list: Vec<String> = by_count.iter().map(|(f, n)| format!("{f} {n}")).collect();
         writeln!(out, "refused by field: {}", list.join(", "))?;
     }
-    let c = &r.compare.counts;
+    let c = &r.counts;
     writeln!(
         out,
         "co-simulated: {} pixels, {} events compared, {} differ; {} divergent pixels; cycles RTL {}, golden {}",
         c.pixels, c.events_compared, c.event_mismatches, c.divergent_pixels, c.a_cycles, c.b_cycles
     )?;
-    let states = r.states();
     let never: Vec<&str> = isa::STATES
         .iter()
-        .filter(|&&(_, id)| !states.contains(id))
+        .filter(|&&(_, id)| !r.reached(id))
         .map(|&(name, _)| name)
         .collect();
     writeln!(
         out,
         "state coverage: {} of {} controller states reached{}",
-        states.len(),
+        r.states.len(),
         isa::STATES.len(),
         if never.is_empty() {
             String::new()
@@ -134,48 +204,30 @@ fn print_summary(out: &mut impl Write, r: &FuzzReport, seconds: f64) -> std::io:
             format!("; never: {}", never.join(", "))
         }
     )?;
-    let mut errors = r.max_errors.clone();
-    errors.sort_by(f64::total_cmp);
+    let errors = &r.max_errors;
     writeln!(
         out,
         "against the f64 reference (largest colour error per scene, 0..255): median {:.3e}, 90% {:.3e}, 99% {:.3e}, max {:.3e}; {} scenes over 0.5, {} over 1; {} non-finite channels",
-        quantile(&errors, 0.5),
-        quantile(&errors, 0.9),
-        quantile(&errors, 0.99),
+        quantile(errors, 0.5),
+        quantile(errors, 0.9),
+        quantile(errors, 0.99),
         errors.last().copied().unwrap_or(0.0),
         errors.iter().filter(|&&e| e > 0.5).count(),
         errors.iter().filter(|&&e| e > 1.0).count(),
         r.nonfinite
     )?;
-    writeln!(
-        out,
-        "{} scenes in {seconds:.1} s ({:.1} scenes/s)",
-        r.scenes,
-        r.scenes as f64 / seconds.max(1e-9)
-    )?;
     writeln!(out)?;
-    for (o, path) in &r.failures {
-        let what = match &o.fate {
-            Fate::Ran(ran) if !ran.compare.passed() => match &ran.compare.first_divergence {
-                Some(d) => format!("diverges: {}", d.text(&ran.compare.labels)),
-                None => "no events compared".to_string(),
-            },
-            Fate::Ran(ran) => format!("{} non-finite colour channels", ran.nonfinite),
-            Fate::Error(e) => format!("the run failed: {e}"),
-            Fate::Refused { .. } => unreachable!("a refusal is not a failure"),
-        };
+    for f in &r.failures {
         writeln!(
             out,
-            "FAILED: seed {} scene {}{}: {what}",
-            o.scene.seed,
-            o.scene.index,
-            path.as_ref()
-                .map(|p| format!(
-                    " (written to {}; replay: rtcosim cosim --scene {})",
-                    p.display(),
-                    p.display()
-                ))
-                .unwrap_or_default()
+            "FAILED: seed {} scene {}{}: {}",
+            f.seed,
+            f.index,
+            f.file
+                .as_ref()
+                .map(|p| format!(" (written to {p}; replay: rtcosim cosim --scene {p})"))
+                .unwrap_or_default(),
+            f.what
         )?;
     }
     if r.passed() {

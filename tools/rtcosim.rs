@@ -10,6 +10,7 @@ mod diffmap;
 mod exit;
 mod fp_check;
 mod fuzz;
+mod merge;
 mod render;
 mod sweep;
 mod trace_diff;
@@ -51,6 +52,13 @@ enum Command {
     /// each must be refused at load or agree everywhere, with finite
     /// colours. Exits 0 when every scene kept that promise, 1 otherwise.
     Fuzz(fuzz::FuzzArgs),
+    /// Merge the shard files of a sharded sweep or fuzz campaign (written
+    /// by `--shard K/N`, or by the tasks of a Slurm array or Kubernetes
+    /// Indexed Job) into the outputs of the unsharded run, byte for byte;
+    /// a sweep's front is confirmed on the RTL here. Refuses, naming them,
+    /// shards of different runs, missing shards, duplicates and damaged
+    /// files. Exits as the unsharded run would (0 passed, 1 failed, 2 error).
+    Merge(merge::MergeArgs),
     /// Render a scene to a PNG with a golden model (and, with --trace, write
     /// the micro-op model's trace of a window of pixels).
     Render(render::RenderArgs),
@@ -79,6 +87,7 @@ fn main() -> ExitCode {
         Command::Diffmap(args) => diffmap::run(args).map(|()| true),
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),
+        Command::Merge(args) => merge::run(args),
         Command::Render(args) => render::run(args).map(|()| true),
         Command::Sweep(args) => sweep::run(args),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),

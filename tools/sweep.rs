@@ -1,15 +1,19 @@
 //! `rtcosim sweep`: speed against accuracy over the grid of configurations.
 
-use crate::args::{parse_cutoff, parse_cycles, parse_fault, parse_size, Size, ThreadsArgs};
+use crate::args::{
+    parse_cutoff, parse_cycles, parse_fault, parse_size, ShardArgs, Size, ThreadsArgs,
+};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
-use golden::scene::MAX_DEPTH;
-use rtcosim::cosim::CosimOptions;
+use golden::scene::{Scene, MAX_DEPTH};
 use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::scenes::{self, Overrides};
-use rtcosim::sweep::{self, chart, ConfirmOptions, Grid, Row, SceneSweep, THESIS_CLOCK_HZ};
+use rtcosim::shard::file::{self as shard_file, ShardFile};
+use rtcosim::shard::Shard;
+use rtcosim::sweep::run::{self, NamedScene, RunConfig, ShardResult};
+use rtcosim::sweep::{self, chart, Row, SceneSweep, THESIS_CLOCK_HZ};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
@@ -31,7 +35,7 @@ pub struct SweepArgs {
     #[arg(long, value_delimiter = ',', value_name = "C1,C2,...", value_parser = parse_cutoff)]
     pub cutoffs: Vec<f32>,
     /// Write sweep.csv, sweep.json and chart-<scene>.svg/.png into DIR
-    /// (created if missing).
+    /// (created if missing); a shard writes its sweep-K-of-N.shard.json.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
     /// The clock frames per second are given at, in MHz (default: the
@@ -58,13 +62,17 @@ pub struct SweepArgs {
     pub timeout_cycles: u64,
     #[command(flatten)]
     pub threads: ThreadsArgs,
+    #[command(flatten)]
+    pub shard: ShardArgs,
 }
 
-/// Returns whether the RTL confirmed every front configuration.
+/// Returns whether the RTL confirmed every front configuration (a shard
+/// confirms nothing: its merge does).
 pub fn run(args: SweepArgs) -> Result<bool> {
     if !(args.clock_mhz.is_finite() && args.clock_mhz > 0.0) {
         anyhow::bail!("--clock-mhz {}: must be a positive number", args.clock_mhz);
     }
+    let shard = args.shard.resolve()?;
     let names = if args.scenes.is_empty() {
         vec![args.scene.clone()]
     } else {
@@ -76,64 +84,125 @@ pub fn run(args: SweepArgs) -> Result<bool> {
     };
     let scenes = names
         .iter()
-        .map(|n| scenes::load_with(n, overrides).with_context(|| format!("--scene {n}")))
+        .map(|n| {
+            let scene = scenes::load_with(n, overrides).with_context(|| format!("--scene {n}"))?;
+            Ok(NamedScene {
+                name: n.clone(),
+                toml: scene.to_toml(),
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("--out {}", args.out.display()))?;
-    let mut grid = Grid::full();
-    if !args.depths.is_empty() {
-        grid.depths = args.depths.clone();
-    }
-    if !args.cutoffs.is_empty() {
-        grid.cutoffs = args.cutoffs.clone();
-    }
-    let clock_hz = args.clock_mhz * 1e6;
-    let options = ConfirmOptions {
+    let config = RunConfig {
+        scenes,
+        depths: args.depths.clone(),
+        cutoffs: args.cutoffs.clone(),
+        clock_mhz: args.clock_mhz,
+        rtl: !args.no_rtl,
         sample: args.sample,
         seed: args.seed,
-        cosim: CosimOptions {
-            fault: args.fault,
-            timeout_cycles: args.timeout_cycles,
-            keep_frames: false,
-        },
+        fault: args.fault.map(|f| f.to_string()),
+        timeout_cycles: args.timeout_cycles,
+        verilator: rtcosim::VERILATOR_VERSION.into(),
     };
+    // Every path, the whole run's and a shard's, reads the scenes back
+    // from the configuration's text, as a merge does.
+    let scenes = config.load_scenes()?;
     let pool = args.threads.pool()?;
+    let measured = measure(&config, &scenes, shard.unwrap_or(Shard::WHOLE), &pool)?;
+    match shard {
+        Some(shard) => {
+            let total = config.work().len() as u64;
+            let file = ShardFile::new(
+                run::TOOL,
+                shard_file::run_config(&config),
+                shard,
+                total,
+                ShardResult::new(&measured),
+            );
+            let path = file.write(&args.out)?;
+            let mut stdout = std::io::stdout().lock();
+            writeln!(
+                stdout,
+                "shard {shard}: {} of {total} configurations of {} scene{}; wrote {}",
+                measured.len(),
+                config.scenes.len(),
+                plural(config.scenes.len() as u64),
+                path.display()
+            )?;
+            writeln!(
+                stdout,
+                "merge every shard's file with: rtcosim merge {} --out DIR",
+                args.out.display()
+            )?;
+            Ok(true)
+        }
+        None => finish(&config, &scenes, measured, &args.out, &pool),
+    }
+}
+
+/// Measures `shard`'s configurations with a progress bar.
+fn measure(
+    config: &RunConfig,
+    scenes: &[Scene],
+    shard: Shard,
+    pool: &rayon::ThreadPool,
+) -> Result<Vec<run::Measured>> {
+    let items = shard.positions(config.work().len() as u64).len() as u64;
+    let bar = progress_bar(
+        items,
+        "sweep    ",
+        "{pos}/{len} configurations {msg} ({eta})",
+    )?;
+    let measured = pool.install(|| {
+        run::measure(
+            config,
+            scenes,
+            shard,
+            &|name| bar.set_message(format!("({name})")),
+            &|n| bar.inc(n),
+        )
+    })?;
+    bar.finish_and_clear();
+    Ok(measured)
+}
+
+/// Everything after the measurements, which needs every row of a scene:
+/// the front confirmed on the RTL, the tables, the charts, the CSV and the
+/// JSON into `out`. The unsharded run and `rtcosim merge` both end here.
+/// Returns whether the RTL confirmed every front configuration.
+pub fn finish(
+    config: &RunConfig,
+    scenes: &[Scene],
+    measured: Vec<run::Measured>,
+    out: &Path,
+    pool: &rayon::ThreadPool,
+) -> Result<bool> {
+    let options = config
+        .confirm_options()
+        .map_err(|e| anyhow::anyhow!("the run's configuration: {e}"))?;
     let mut stdout = std::io::stdout().lock();
-    let mut sweeps = Vec::new();
+    let mut sweeps = run::assemble(config, scenes, measured);
     let mut all_confirmed = true;
-    for (name, scene) in names.iter().zip(&scenes) {
-        let reference = {
-            let bar = progress_bar(1, "reference", "{msg}")?;
-            bar.set_message(format!("{name}: f64, depth {MAX_DEPTH}"));
-            let frame = pool.install(|| sweep::reference_frame(name, scene))?;
-            bar.finish_and_clear();
-            frame
-        };
-        let configs = grid.configs().len() as u64;
-        let bar = progress_bar(configs, "sweep    ", "{pos}/{len} configurations ({eta})")?;
-        let mut s = pool.install(|| {
-            sweep::sweep_scene(name, scene, &reference, &grid, clock_hz, &|n| bar.inc(n))
-        });
-        bar.finish_and_clear();
-        if !args.no_rtl {
-            let bar = progress_bar(0, "RTL      ", "{pos}/{len} pixels ({eta})")?;
-            pool.install(|| {
-                sweep::confirm(&mut s, &options, &|n| bar.set_length(n), &|n| bar.inc(n))
-            })?;
+    for s in &mut sweeps {
+        if let Some(options) = &options {
+            let bar = progress_bar(0, "RTL      ", "{pos}/{len} pixels {msg} ({eta})")?;
+            bar.set_message(format!("({})", s.name));
+            pool.install(|| sweep::confirm(s, options, &|n| bar.set_length(n), &|n| bar.inc(n)))?;
             bar.finish_and_clear();
         }
         all_confirmed &= s.rows.iter().all(|r| r.rtl_confirmed != Some(false));
-        print_scene(&mut stdout, &s)?;
-        let svg = args.out.join(format!("chart-{}.svg", file_stem(name)));
+        print_scene(&mut stdout, s)?;
+        let svg = out.join(format!("chart-{}.svg", file_stem(&s.name)));
         let png = svg.with_extension("png");
-        chart::write(&s, &svg, &png)?;
+        chart::write(s, &svg, &png)?;
         writeln!(stdout, "wrote {} and {}", svg.display(), png.display())?;
-        sweeps.push(s);
     }
     let rows: Vec<Row> = sweeps.iter().flat_map(|s| s.rows.iter().cloned()).collect();
-    let csv = args.out.join("sweep.csv");
-    let json = args.out.join("sweep.json");
+    let csv = out.join("sweep.csv");
+    let json = out.join("sweep.json");
     sweep::write_csv(&csv, &rows)?;
-    sweep::write_json(&json, &sweeps, clock_hz)?;
+    sweep::write_json(&json, &sweeps, config.clock_hz())?;
     writeln!(stdout, "wrote {} and {}", csv.display(), json.display())?;
     if !all_confirmed {
         writeln!(

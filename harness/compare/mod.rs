@@ -502,8 +502,9 @@ macro_rules! counters {
 }
 
 counters! {
-    /// What a comparison counted; adds exactly.
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    /// What a comparison counted; adds exactly. (Serialized in fuzz shard
+    /// files, crate::fuzz::summary.)
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
     pub struct Counts {
         /// Pixels compared.
         pixels,

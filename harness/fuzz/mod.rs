@@ -9,6 +9,7 @@
 //! The report is in scene order and does not depend on the thread count.
 
 pub mod generate;
+pub mod summary;
 
 use crate::compare::{CompareReport, Labels, StateSet};
 use crate::cosim::{self, CosimError, CosimOptions};
@@ -223,14 +224,25 @@ pub fn run(
     options: &FuzzOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<FuzzReport, std::io::Error> {
+    let indices: Vec<u64> = (options.first..options.first + options.count).collect();
+    run_indices(options, &indices, progress)
+}
+
+/// Runs the scenes `indices` of the campaign (a shard's, [`summary`]),
+/// reported in that order; `options.first` and `count` are not used.
+pub fn run_indices(
+    options: &FuzzOptions,
+    indices: &[u64],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<FuzzReport, std::io::Error> {
     let cosim_options = CosimOptions {
         fault: options.fault,
         timeout_cycles: options.timeout_cycles,
         keep_frames: false,
     };
-    let outcomes: Vec<SceneOutcome> = (options.first..options.first + options.count)
-        .into_par_iter()
-        .map_init(Models::default, |models, index| {
+    let outcomes: Vec<SceneOutcome> = indices
+        .par_iter()
+        .map_init(Models::default, |models, &index| {
             let outcome = run_scene(models, generate::scene(options.seed, index), &cosim_options);
             if matches!(outcome.fate, Fate::Error(_)) {
                 // A model that failed mid-pixel is not used again.

@@ -25,6 +25,7 @@
 //! that configuration* needs, not what was co-simulated.
 
 pub mod chart;
+pub mod run;
 
 use crate::compare::CompareReport;
 use crate::cosim::{self, CosimError, CosimOptions};
@@ -35,7 +36,7 @@ use golden::scene::{RenderSettings, Scene, SceneError, Speedups, MAX_DEPTH};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The clock frames per second are stated at: the largest frequency Xilinx
@@ -249,14 +250,17 @@ impl Grid {
 
 /// One configuration of one scene, measured: a row of the CSV. The field
 /// order is the column order (docs/accuracy.md, "Speed against accuracy",
-/// documents each column).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// documents each column). Shard files carry rows as CSV cells and read
+/// them back ([`run`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Row {
     pub scene: String,
     pub width: u32,
     pub height: u32,
-    pub recip: &'static str,
-    pub sqrt: &'static str,
+    #[serde(deserialize_with = "method_name")]
+    pub recip: MethodName,
+    #[serde(deserialize_with = "method_name")]
+    pub sqrt: MethodName,
     pub depth: u32,
     pub bounding_box: bool,
     pub fast_plane: bool,
@@ -318,6 +322,20 @@ impl Row {
             cutoff: self.weight_cutoff,
         }
     }
+}
+
+/// [`Method::name`]. (An alias, so that serde's derive does not take the
+/// field for text borrowed from the input: [`method_name`] reads it.)
+pub type MethodName = &'static str;
+
+/// A method's name read back ([`Method::name`]), refusing any other text.
+fn method_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<&'static str, D::Error> {
+    let text = String::deserialize(d)?;
+    [Method::Exact, Method::Fast]
+        .into_iter()
+        .map(Method::name)
+        .find(|n| *n == text)
+        .ok_or_else(|| serde::de::Error::custom(format!("no method {text:?} (exact, fast)")))
 }
 
 /// A configuration the scene refused, and why.
@@ -406,37 +424,57 @@ pub fn sweep_scene(
     clock_hz: f64,
     progress: &(dyn Fn(u64) + Sync),
 ) -> SceneSweep {
-    let mut skipped = Vec::new();
-    let mut runs = Vec::new();
-    for config in grid.configs() {
-        match config.apply(scene, name) {
-            Ok(s) => runs.push((config, s)),
-            Err(e) => {
-                progress(1);
-                skipped.push(Skipped {
-                    config,
-                    reason: e.to_string(),
-                })
-            }
-        }
-    }
-    let mut rows: Vec<Row> = runs
+    let results: Vec<Result<Row, Skipped>> = grid
+        .configs()
         .par_iter()
-        .map(|(config, s)| {
-            let row = measure(name, config, s, reference, clock_hz);
+        .map(|config| {
+            let result = measure_config(name, config, scene, reference, clock_hz);
             progress(1);
-            row
+            result
         })
         .collect();
-    let front = pareto_front(&rows);
-    for (row, on) in rows.iter_mut().zip(front) {
-        row.pareto = on;
+    SceneSweep::assemble(name, scene, results)
+}
+
+impl SceneSweep {
+    /// A scene's sweep from its configurations' rows and refusals
+    /// ([`measure_config`]), in grid order; marks the rows' Pareto front.
+    pub fn assemble(name: &str, scene: &Scene, results: Vec<Result<Row, Skipped>>) -> Self {
+        let (mut rows, mut skipped) = (Vec::new(), Vec::new());
+        for result in results {
+            match result {
+                Ok(row) => rows.push(row),
+                Err(s) => skipped.push(s),
+            }
+        }
+        let front = pareto_front(&rows);
+        for (row, on) in rows.iter_mut().zip(front) {
+            row.pareto = on;
+        }
+        SceneSweep {
+            name: name.into(),
+            scene: scene.clone(),
+            rows,
+            skipped,
+        }
     }
-    SceneSweep {
-        name: name.into(),
-        scene: scene.clone(),
-        rows,
-        skipped,
+}
+
+/// One configuration of `scene`: its row (RTL columns empty, not on the
+/// front yet), or why the scene refuses it.
+pub fn measure_config(
+    name: &str,
+    config: &Config,
+    scene: &Scene,
+    reference: &Frame,
+    clock_hz: f64,
+) -> Result<Row, Skipped> {
+    match config.apply(scene, name) {
+        Ok(s) => Ok(measure(name, config, &s, reference, clock_hz)),
+        Err(e) => Err(Skipped {
+            config: *config,
+            reason: e.to_string(),
+        }),
     }
 }
 
