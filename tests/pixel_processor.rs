@@ -106,6 +106,27 @@ fn box_room_frame_agrees() {
     frame_agrees("box_room", 40, 30);
 }
 
+/// The exposure (thesis 3.7) through the RTL: the overexposed scene (colours
+/// up to about 4.4 before it) agrees with golden in every event, colour
+/// and cycle with both method pairs (frame_agrees), including the three
+/// EXPO states of every pixel and the three fp_exp units of the ALU; and
+/// the RTL's frame, which golden's equals bit for bit, lies in [0, 1).
+#[test]
+fn overexposed_frame_agrees() {
+    frame_agrees("overexposed", 80, 60);
+    let scene = builtin("overexposed", 80, 60);
+    assert!(scene.render.exposure.is_some());
+    let options = CosimOptions {
+        keep_frames: true,
+        ..CosimOptions::default()
+    };
+    let report = cosim::run(&scene, Window::full(&scene), &options, &|_| {}).expect("runs");
+    let frames = report.frames.expect("kept");
+    assert_eq!(frames.rtl.saturated_pixels(), 0);
+    assert!(frames.rtl.max_channel() < 1.0, "{}", frames.rtl.max_channel());
+    assert!(report.compare.states.contains(state::EXPO_EXP));
+}
+
 /// The weight cutoff, co-simulated: the mirror scene with a cutoff that
 /// refuses its two deepest levels' rays (tests/common: every weight is a
 /// power of 0.8, and 0.8^3 < 0.6 < 0.8^2) agrees with golden in every event,
@@ -180,6 +201,7 @@ fn every_builtin_scene_has_a_frame_test() {
         "light_touch",
         "parallel_plane",
         "box_room",
+        "overexposed",
     ];
     for name in Scene::builtin_names() {
         assert!(tested.contains(name), "no frame test for builtin {name}");

@@ -74,10 +74,11 @@ pub(crate) fn exp_bits(a: u32) -> u32 {
     } else {
         (u64::from(frac | 1 << 23), field)
     };
-    let x_fixed = if e >= 118 {
-        m << (e - 118)
+    let e0 = 150 - X_FRAC; // the field whose ULP is 2^-X_FRAC
+    let x_fixed = if e >= e0 {
+        m << (e - e0)
     } else {
-        m.checked_shr(118 - e).unwrap_or(0)
+        m.checked_shr(e0 - e).unwrap_or(0)
     };
     // t = +-|x| * log2(e), 32 fraction bits (|t| < 185: 40 bits).
     let t_mag = ((u128::from(x_fixed) * u128::from(LOG2E)) >> LOG2E_FRAC) as i64;
