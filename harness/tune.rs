@@ -157,6 +157,9 @@ pub fn grid(speedups: Speedups) -> Vec<RenderSettings> {
                         recip,
                         sqrt,
                         weight_cutoff,
+                        // Part of the picture, not a configuration: each
+                        // evaluation keeps the scene's (`evaluate`).
+                        exposure: None,
                     });
                 }
             }
@@ -171,7 +174,11 @@ pub fn evaluate(
     render: RenderSettings,
     truth: &Frame,
 ) -> Result<Evaluated, SceneError> {
-    let s = scene.with_render(render, "tune")?;
+    let picture = RenderSettings {
+        exposure: scene.render.exposure,
+        ..render
+    };
+    let s = scene.with_render(picture, "tune")?;
     let (frame, stats) = golden::micro::render(&s, &|_| {});
     let diff = frame
         .compare(truth)

@@ -228,7 +228,26 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
     let scene = builtin("reference", 40, 30);
     let window = Window::new(17, 11, 6, 4);
     // A single-cycle and a multi-cycle state that every pixel visits.
-    for fault_state in [state::PRI_HALF, state::NORM_ROOTS] {
+    assert_faults_caught(&scene, window, &[state::PRI_HALF, state::NORM_ROOTS]);
+}
+
+/// The same for the exposure's three states (every pixel of a scene with
+/// an exposure visits them): a wrong write in EXPO_MUL, EXPO_EXP (the
+/// fp_exp units' result) or EXPO_SUB is caught there.
+#[test]
+fn a_fault_in_the_exposure_is_reported_at_its_state() {
+    let scene = builtin("overexposed", 40, 30);
+    let states = [state::EXPO_MUL, state::EXPO_EXP, state::EXPO_SUB];
+    assert_faults_caught(&scene, Window::new(20, 8, 5, 4), &states);
+}
+
+/// For each state: a fault there (bit 10 of lane x flipped) is caught at
+/// the window's first pixel, at the golden event index of the state's
+/// first write, in that state on both sides, with golden's source line,
+/// and in every pixel.
+fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
+    let scene = scene.clone();
+    for &fault_state in states {
         let xor = 1 << 10;
         let mut first = None;
         golden::micro::render_pixel(&scene, window.x, window.y, |e, at| {
