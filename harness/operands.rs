@@ -139,9 +139,11 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
         );
     }
     if kind == UnitKind::Exp {
-        a.extend(EXP_EDGES.iter().flat_map(|&m| {
-            (m - 2..=m + 2).flat_map(|v| [v, v | 0x8000_0000])
-        }));
+        a.extend(
+            EXP_EDGES
+                .iter()
+                .flat_map(|&m| (m - 2..=m + 2).flat_map(|v| [v, v | 0x8000_0000])),
+        );
     }
     (a, Vec::new())
 }

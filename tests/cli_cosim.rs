@@ -335,7 +335,15 @@ fn colours_over_1_are_warned_about_unless_the_scene_sets_an_exposure() {
     let png = png.to_str().expect("utf-8 path");
     for (scene, warned) in [("overexposed", false), (plain, true)] {
         for args in [
-            vec!["cosim", "--scene", scene, "--size", "16x12", "--threads", "2"],
+            vec![
+                "cosim",
+                "--scene",
+                scene,
+                "--size",
+                "16x12",
+                "--threads",
+                "2",
+            ],
             vec!["render", "--scene", scene, "--size", "16x12", "--out", png],
         ] {
             let out = rtcosim(&args);

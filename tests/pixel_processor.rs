@@ -4,8 +4,8 @@
 //!
 //! The frame tests run every builtin scene, reduced so the whole file stays
 //! within about a minute, with whole frames (so every silhouette, shadow edge
-//! and horizon of the scene is in): reference, mirror and parallel_plane at
-//! 80x60, grazing at its own 96x72, light_touch at 64x48 and box_room (about
+//! and horizon of the scene is in): reference, mirror, parallel_plane and
+//! overexposed (the exposure) at 80x60, grazing at its own 96x72, light_touch at 64x48 and box_room (about
 //! 1460 cycles a pixel) at 40x30: about 6.3 million golden cycles per method
 //! pair. `cargo test --release -- --ignored` adds the full 800x600 reference
 //! frame.
@@ -123,7 +123,11 @@ fn overexposed_frame_agrees() {
     let report = cosim::run(&scene, Window::full(&scene), &options, &|_| {}).expect("runs");
     let frames = report.frames.expect("kept");
     assert_eq!(frames.rtl.saturated_pixels(), 0);
-    assert!(frames.rtl.max_channel() < 1.0, "{}", frames.rtl.max_channel());
+    assert!(
+        frames.rtl.max_channel() < 1.0,
+        "{}",
+        frames.rtl.max_channel()
+    );
     assert!(report.compare.states.contains(state::EXPO_EXP));
 }
 

@@ -138,7 +138,11 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
     })?;
     print_report(&mut out, &report, seconds, threads)?;
-    if let Some(warning) = report.frames.as_ref().and_then(|f| f.golden.saturation_warning()) {
+    if let Some(warning) = report
+        .frames
+        .as_ref()
+        .and_then(|f| f.golden.saturation_warning())
+    {
         writeln!(out, "{warning}")?;
     }
     if let Some(dir) = &args.out {

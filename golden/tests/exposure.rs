@@ -1,5 +1,5 @@
-//! The exposure (`[render] exposure`, thesis 3.7: colour = 1 - e^(exposure
-//! * colour)) in the scene file and both golden models: its validation, its
+//! The exposure (`[render] exposure`, thesis 3.7:
+//! `colour = 1 - e^(exposure * colour)`) in the scene file and both golden models: its validation, its
 //! place in the text and the hashes, the cycles it costs, and the frames it
 //! makes against the f64 reference. (Its stability test, colour over 1
 //! detected without it and prevented with it, is in stability.rs.)
@@ -35,7 +35,14 @@ fn text(exposure: &str) -> String {
 fn bad_exposures_are_refused_naming_file_field_and_limit() {
     // 0 and -0 (every pixel black), positive, NaN, infinities, past -100.
     for bad in [
-        "0.0", "-0.0", "0.5", "nan", "inf", "-inf", "-100.00001", "-1e300",
+        "0.0",
+        "-0.0",
+        "0.5",
+        "nan",
+        "inf",
+        "-inf",
+        "-100.00001",
+        "-1e300",
     ] {
         match Scene::from_toml(&text(bad), "exp.toml") {
             Err(e @ SceneError::Invalid { .. }) => {
@@ -94,8 +101,8 @@ fn the_exposure_is_in_the_text_and_the_render_hash_only_when_set() {
     assert_eq!(plain.config_hash(), off.config_hash());
 }
 
-/// The cycle rule (golden.md): EXPO_MUL (1) + EXPO_EXP (fp_exp latency 5
-/// + 1) + EXPO_SUB (1) = 8 cycles and 3 register writes more per pixel,
+/// The cycle rule (golden.md): EXPO_MUL (1), EXPO_EXP (fp_exp latency 5,
+/// plus 1) and EXPO_SUB (1): 8 cycles and 3 register writes more per pixel,
 /// whatever the pixel; everything before them is unchanged.
 #[test]
 fn the_exposure_costs_eight_cycles_and_three_writes_a_pixel() {

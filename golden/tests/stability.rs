@@ -609,7 +609,10 @@ fn colour_over_1_is_detected_without_exposure_and_prevented_with_it() {
         "micro counts {seen}, the reference {truth} ({near_one} pixels within 1e-5 of 1)"
     );
     let warning = m_off.saturation_warning().expect("a warning");
-    assert!(warning.contains(&format!("{seen} of {n} pixels")), "{warning}");
+    assert!(
+        warning.contains(&format!("{seen} of {n} pixels")),
+        "{warning}"
+    );
     // What the warning is about: the clipped pixels' 8-bit colours lose
     // what the reference tells apart.
     let clipped = |f: &Frame| {

@@ -16,8 +16,8 @@
 //! campaign runs.
 
 use golden::scene::{
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE,
-    MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
+    MIN_DISTANCE, MIN_RADIUS,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

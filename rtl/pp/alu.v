@@ -27,7 +27,7 @@
 // in its first cycle and is done when both results are in (max latency + 1
 // cycles); its result is <sqrt y, recip y, +0>. EXP starts the three fp_exp
 // units in its first cycle, which finish together (fp_exp latency + 1
-// cycles: golden::fp::exp_latency); its result is <exp y.x, y.y, y.z>.
+// cycles: golden::fp::exp_latency); its result is <e^A.x, e^A.y, e^A.z>.
 //
 // The flags describe y, lane by lane, for the controller's branches:
 // y_neg (< 0: sign, not zero, not NaN), y_pos (> 0) and the raw sign bit.
@@ -224,7 +224,7 @@ module alu #(
                    : is_exp ? (&exp_valid)
                    : (is_recip & recip_valid) | (is_sqrt & sqrt_valid);
 
-    // Set by the first cycle of RECIP/RECIPY/SQRT/ROOTS, cleared when it is
+    // Set by the first cycle of RECIP/RECIPY/SQRT/ROOTS/EXP, cleared when it is
     // done; ROOTS remembers which results have arrived until then.
     always @* begin
         busy_d      = busy_q;

@@ -147,10 +147,10 @@ pub fn sqrt_datapath(a: u32, method: Method) -> u32 {
 
 /// `fp_exp`: `e^a`, within 1 ULP of the correctly rounded result over
 /// every input (not correctly rounded; the method is in the `exp` module
-/// and docs/fp.md, the error measured by
-/// the ignored test `exp_error_over_every_non_positive_input` and
-/// `--example fp_error`). NaN gives [`CANONICAL_NAN`], `-inf` and `a < -103.98` give
-/// `+0` (through the subnormals), `+-0` gives 1, `a > 88.72` gives `+inf`.
+/// and docs/fp.md, the error measured by the ignored test
+/// `exp_error_over_every_f32_input`). NaN gives [`CANONICAL_NAN`], `-inf`
+/// and `a < -103.97` give `+0` (through the subnormals), `+-0` gives 1,
+/// `a > 88.72` gives `+inf`.
 #[inline]
 pub fn exp(a: f32) -> f32 {
     f32::from_bits(exp::exp_bits(a.to_bits()))

@@ -84,8 +84,8 @@ pub use error::SceneError;
 pub(crate) use types::dvec;
 pub use types::{
     Axis, Camera, Light, Material, Object, Plane, RenderSettings, Speedups, Sphere, Vec3f,
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
-    MIN_DISTANCE, MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS,
+    MAX_SPHERES, MIN_DISTANCE, MIN_RADIUS,
 };
 
 use file::RawScene;

@@ -20,8 +20,7 @@ use super::file::{RawCamera, RawLight, RawPlane, RawRender, RawScene, RawSphere}
 use super::types::{
     dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_COORD,
     MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
-    MIN_DISTANCE,
-    MIN_RADIUS,
+    MIN_DISTANCE, MIN_RADIUS,
 };
 use super::Scene;
 use glam::DVec3;
@@ -204,7 +203,7 @@ impl Check<'_> {
     fn exposure(&self, x: f64) -> Result<f32, SceneError> {
         let field = "render.exposure";
         let e = self.num(field, x)?;
-        if !(e < 0.0 && e >= -MAX_EXPOSURE) {
+        if !(-MAX_EXPOSURE..0.0).contains(&e) {
             return Err(self.fail(
                 field,
                 format!(
