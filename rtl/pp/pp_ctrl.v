@@ -398,9 +398,9 @@ module pp_ctrl (
                                                   : plane(best_idx_q, `ISA_REG_PLN0_Q);
 
     // unwind: skip the uncoloured levels above the highest coloured one at
-    // or below `top` (their `if` issues nothing), then one POP per level
+    // or below `from` (their `if` issues nothing), then one POP per level
     // down to 1: {st, sp}.
-    function [SW+SPW-1:0] unwind(input [SPW-1:0] top, input [STK_N-1:0] col);
+    function [SW+SPW-1:0] unwind(input [SPW-1:0] from, input [STK_N-1:0] col);
         integer   l;
         reg       found;
         reg [SPW-1:0] lvl;
@@ -408,7 +408,7 @@ module pp_ctrl (
             found = 1'b0;
             lvl   = {SPW{1'b0}};
             for (l = 1; l < STK_N; l = l + 1)
-                if (l[SPW-1:0] <= top && col[l]) begin
+                if (l[SPW-1:0] <= from && col[l]) begin
                     found = 1'b1;
                     lvl   = l[SPW-1:0];
                 end
