@@ -81,23 +81,7 @@ module top_tb;
     reg [111:0] writes [0:MAX_WRITES-1];
     reg [31:0]  pixels [0:MAX_PIXELS-1];
 
-    // clk low, settled: the outputs are this cycle's, and the inputs may
-    // change.
-    task fall;
-        begin
-            clk = 1'b0;
-            #5;
-        end
-    endtask
-
-    // The rising edge, after the inputs set since fall have settled.
-    task rise;
-        begin
-            #5;
-            clk = 1'b1;
-            #5;
-        end
-    endtask
+    `include "tb_clock.vh"
 
     reg [1023:0] scene_file, pixel_file;
     integer      n_writes, n_pixels, i, given, taken, quiet, seed, stall;
