@@ -313,12 +313,14 @@ impl Top {
                             procs: self.procs,
                         }),
                         kind: HangKind::Timeout,
-                        cycles: run.cycles,
+                        // The C++ counts the start cycle too; a pixel's
+                        // cycles begin after the start edge.
+                        cycles: run.cycles.saturating_sub(1),
                         last_state: run
                             .has_last_state
-                            .then_some((run.last_state, run.last_state_cycle)),
+                            .then_some((run.last_state, run.last_state_cycle.saturating_sub(1))),
                         state_port: run.state_port,
-                    })
+                    });
                 }
                 ffi::TopStatus::Stalled => {
                     return Err(model_error(
