@@ -127,6 +127,7 @@ fn run() -> Result<(), String> {
         unit("fp_add", "Vfp_add".into(), vec![]),
         unit("fp_mul", "Vfp_mul".into(), vec![]),
         unit("fp_itof", "Vfp_itof".into(), vec![]),
+        unit("fp_exp", "Vfp_exp".into(), vec![]),
     ];
     for top in ["fp_recip", "fp_sqrt"] {
         for (name, code) in &methods {

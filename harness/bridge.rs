@@ -18,6 +18,7 @@ pub(crate) mod ffi {
         RecipFast,
         SqrtExact,
         SqrtFast,
+        Exp,
     }
 
     /// One trace event as the RTL's trace port shows it (the pixel and the

@@ -23,6 +23,10 @@ pub enum Operands {
     Random { seed: u64, count: u64 },
     /// All 2^32 inputs (unary units only).
     Exhaustive,
+    /// `count` consecutive input bit patterns from `start` (unary units
+    /// only): a range of an exhaustive sweep, such as `fp_exp`'s x in
+    /// [-104, -0].
+    Span { start: u32, count: u64 },
 }
 
 impl Operands {
@@ -32,6 +36,7 @@ impl Operands {
             Operands::Edge => operands::edge_cases(kind).0.len() as u64,
             Operands::Random { count, .. } => count,
             Operands::Exhaustive => 1 << 32,
+            Operands::Span { count, .. } => count,
         }
     }
 }
@@ -198,12 +203,20 @@ pub fn run(
                     Vec::new(),
                 )
             }
+            Operands::Span { start, count } => {
+                let first = start.wrapping_add((index * CHUNK as u64) as u32);
+                let len = (count - index * CHUNK as u64).min(CHUNK as u64) as u32;
+                (
+                    (0..len).map(|i| first.wrapping_add(i)).collect(),
+                    Vec::new(),
+                )
+            }
         }
     };
     let chunks = match source {
         Operands::Edge => 1,
         Operands::Random { count, .. } => count.div_ceil(CHUNK as u64),
-        Operands::Exhaustive => {
+        Operands::Exhaustive | Operands::Span { .. } => {
             if kind.is_binary() {
                 return Err(UnitError::Eval {
                     unit: kind,
@@ -211,7 +224,7 @@ pub fn run(
                         .into(),
                 });
             }
-            (1u64 << 32) / CHUNK as u64
+            source.count(kind).div_ceil(CHUNK as u64)
         }
     };
     let reports: Vec<Result<CheckReport, UnitError>> = (0..chunks)

@@ -17,11 +17,13 @@ pub enum UnitKind {
     Recip(Method),
     /// `fp_sqrt`: `y = sqrt(a)`, multi-cycle.
     Sqrt(Method),
+    /// `fp_exp`: `y = e^a`, multi-cycle, one method (within 1 ULP).
+    Exp,
 }
 
 impl UnitKind {
     /// Every unit and method that is verilated, in table order.
-    pub const ALL: [UnitKind; 7] = [
+    pub const ALL: [UnitKind; 8] = [
         UnitKind::Add,
         UnitKind::Mul,
         UnitKind::Itof,
@@ -29,6 +31,7 @@ impl UnitKind {
         UnitKind::Recip(Method::Fast),
         UnitKind::Sqrt(Method::Exact),
         UnitKind::Sqrt(Method::Fast),
+        UnitKind::Exp,
     ];
 
     /// The Verilog module.
@@ -39,11 +42,12 @@ impl UnitKind {
             UnitKind::Itof => "fp_itof",
             UnitKind::Recip(_) => "fp_recip",
             UnitKind::Sqrt(_) => "fp_sqrt",
+            UnitKind::Exp => "fp_exp",
         }
     }
 
     /// The method of a multi-cycle unit; `None` for the combinational ones,
-    /// which are always correctly rounded.
+    /// which are always correctly rounded, and for `fp_exp`, which has one.
     pub const fn method(self) -> Option<Method> {
         match self {
             UnitKind::Recip(m) | UnitKind::Sqrt(m) => Some(m),
@@ -62,6 +66,7 @@ impl UnitKind {
         match self {
             UnitKind::Recip(m) => golden::fp::recip_latency(m),
             UnitKind::Sqrt(m) => golden::fp::sqrt_latency(m),
+            UnitKind::Exp => golden::fp::exp_latency(),
             _ => 0,
         }
     }
@@ -76,14 +81,17 @@ impl UnitKind {
             UnitKind::Itof => fp::itof(a as i32).to_bits(),
             UnitKind::Recip(m) => fp::recip(fa, m).to_bits(),
             UnitKind::Sqrt(m) => fp::sqrt(fa, m).to_bits(),
+            UnitKind::Exp => fp::exp(fa).to_bits(),
         }
     }
 
-    /// The correctly rounded result (the truth that error is measured against).
+    /// The correctly rounded result (the truth that error is measured
+    /// against; for `fp_exp`, f64 `exp` rounded to f32).
     pub fn correctly_rounded(self, a: u32, b: u32) -> u32 {
         match self {
             UnitKind::Recip(_) => UnitKind::Recip(Method::Exact).golden(a, b),
             UnitKind::Sqrt(_) => UnitKind::Sqrt(Method::Exact).golden(a, b),
+            UnitKind::Exp => golden::fp::exp_reference(f32::from_bits(a)).to_bits(),
             other => other.golden(a, b),
         }
     }
@@ -97,6 +105,7 @@ impl UnitKind {
             UnitKind::Recip(Method::Fast) => ffi::FpModel::RecipFast,
             UnitKind::Sqrt(Method::Exact) => ffi::FpModel::SqrtExact,
             UnitKind::Sqrt(Method::Fast) => ffi::FpModel::SqrtFast,
+            UnitKind::Exp => ffi::FpModel::Exp,
         }
     }
 }

@@ -97,9 +97,29 @@ pub fn edge_values() -> Vec<u32> {
     values
 }
 
+/// Inputs where `fp_exp` changes regime (bit patterns): e^x's underflow to
+/// the smallest subnormal and to zero (x = ln 2^-149 = -103.279, x =
+/// ln 2^-150 = -103.972), overflow (x = ln(f32::MAX) = 88.7228), |x| = 128
+/// (decided at the input), the smallest |x| the fixed-point input keeps
+/// (2^-32) and those where e^x rounds away from 1 (2^-25, 2^-24), and
+/// multiples of ln 2 (k steps, f = 0 and f just below 1).
+const EXP_EDGES: &[u32] = &[
+    0xC2CE_8ED0, // -103.279
+    0xC2CF_F1B4, // -103.972
+    0x42B1_7218, // 88.7228
+    0x4300_0000, // 128
+    0x2F80_0000, // 2^-32
+    0x3300_0000, // 2^-25
+    0x3380_0000, // 2^-24
+    0x3F31_7218, // ln 2
+    0x3FB1_7218, // 2 ln 2
+    0x42AE_AC50, // 126 ln 2 = 87.3365
+];
+
 /// Edge-case operands for `kind`: every ordered pair of [`edge_values`] for
 /// binary units; the edge values (and, for `fp_itof`, the edge integers with
-/// both signs) for unary ones. `b` is empty for unary units.
+/// both signs; for `fp_exp`, [`EXP_EDGES`] with both signs and their
+/// neighbours) for unary ones. `b` is empty for unary units.
 pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     let values = edge_values();
     if kind.is_binary() {
@@ -116,6 +136,13 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
             EDGE_INTEGERS
                 .iter()
                 .flat_map(|&i| [i as u32, i.wrapping_neg() as u32]),
+        );
+    }
+    if kind == UnitKind::Exp {
+        a.extend(
+            EXP_EDGES
+                .iter()
+                .flat_map(|&m| (m - 2..=m + 2).flat_map(|v| [v, v | 0x8000_0000])),
         );
     }
     (a, Vec::new())

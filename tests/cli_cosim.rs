@@ -316,3 +316,49 @@ fn out_writes_frames_json_markdown_and_junit_that_say_the_same() {
         "{md}"
     );
 }
+
+/// Colour over 1 is reported, not silently clipped: the overexposed scene
+/// without its exposure makes `cosim` (and `render`) print the saturation
+/// warning with the count; with its exposure neither prints one.
+#[test]
+fn colours_over_1_are_warned_about_unless_the_scene_sets_an_exposure() {
+    let text_of = golden::scene::Scene::builtin("overexposed")
+        .expect("builtin")
+        .to_toml();
+    assert!(text_of.contains("exposure = -1.5\n"), "{text_of}");
+    let dir = std::env::temp_dir().join(format!("rtcosim-cli-exposure-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let plain = dir.join("plain.toml");
+    std::fs::write(&plain, text_of.replace("exposure = -1.5\n", "")).expect("written");
+    let plain = plain.to_str().expect("utf-8 path");
+    let png = dir.join("f.png");
+    let png = png.to_str().expect("utf-8 path");
+    for (scene, warned) in [("overexposed", false), (plain, true)] {
+        for args in [
+            vec![
+                "cosim",
+                "--scene",
+                scene,
+                "--size",
+                "16x12",
+                "--threads",
+                "2",
+            ],
+            vec!["render", "--scene", scene, "--size", "16x12", "--out", png],
+        ] {
+            let out = rtcosim(&args);
+            assert_eq!(out.status.code(), Some(0), "{args:?}: {}", both(&out));
+            let stdout = text(&out.stdout);
+            let line = stdout.lines().find(|l| l.starts_with("warning: "));
+            match (warned, line) {
+                (true, Some(l)) => assert!(
+                    l.contains("of 192 pixels have a channel over 1") && l.contains("exposure"),
+                    "{args:?}: {l}"
+                ),
+                (false, None) => {}
+                _ => panic!("{args:?}: warning expected {warned}:\n{stdout}"),
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

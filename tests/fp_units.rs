@@ -49,8 +49,9 @@ fn random_operands_agree(kind: UnitKind) -> Result<(), UnitError> {
         &|_| {},
     )?;
     assert_agrees(&report, RANDOM_OPERANDS);
-    // Correctly rounded units and methods are exact; the fast methods promise 1 ULP.
-    let bound = if kind.method() == Some(Method::Fast) {
+    // Correctly rounded units and methods are exact; the fast methods and
+    // fp_exp promise 1 ULP.
+    let bound = if kind.method() == Some(Method::Fast) || kind == UnitKind::Exp {
         1
     } else {
         0
@@ -84,6 +85,7 @@ unit_tests! {
     fp_recip_fast: UnitKind::Recip(Method::Fast),
     fp_sqrt_exact: UnitKind::Sqrt(Method::Exact),
     fp_sqrt_fast: UnitKind::Sqrt(Method::Fast),
+    fp_exp: UnitKind::Exp,
 }
 
 fn eval_one(kind: UnitKind, a: u32, b: u32) -> Result<u32, UnitError> {
@@ -111,6 +113,14 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         (UnitKind::Sqrt(Method::Exact), 0x8000_0000, 0, 0x8000_0000),  // sqrt(-0) = -0
         (UnitKind::Sqrt(Method::Exact), 0x0000_0001, 0, 0x1A35_04F3),  // sqrt(2^-149)
         (UnitKind::Sqrt(Method::Fast), 0x3F80_0000, 0, 0x3F80_0000), // sqrt(1) = 1, even when fast
+        (UnitKind::Exp, 0x0000_0000, 0, 0x3F80_0000),                // e^+0 = 1
+        (UnitKind::Exp, 0x8000_0000, 0, 0x3F80_0000),                // e^-0 = 1
+        (UnitKind::Exp, 0xFF80_0000, 0, 0x0000_0000),                // e^-inf = +0
+        (UnitKind::Exp, 0x7F80_0000, 0, 0x7F80_0000),                // e^+inf = +inf
+        (UnitKind::Exp, 0xC2D0_0000, 0, 0x0000_0000),                // e^-104 < 2^-150: +0
+        (UnitKind::Exp, 0xC2CE_0000, 0, 0x0000_0001),                // e^-103 = 0.93 * 2^-149
+        (UnitKind::Exp, 0x42B2_0000, 0, 0x7F80_0000),                // e^89 overflows
+        (UnitKind::Exp, 0xBF80_0000, 0, 0x3EBC_5AB2), // e^-1 = 0.36787944 (correctly rounded)
     ];
     for &(kind, a, b, want) in cases {
         let y = eval_one(kind, a, b)?;
@@ -127,6 +137,8 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         (UnitKind::Sqrt(Method::Fast), 0xFF80_0000, 0), // sqrt(-inf)
         (UnitKind::Recip(Method::Fast), 0x7FC0_0001, 0), // NaN in
         (UnitKind::Recip(Method::Exact), 0xFFFF_FFFF, 0), // NaN in
+        (UnitKind::Exp, 0xFFC0_1234, 0),           // negative NaN with a payload in
+        (UnitKind::Exp, 0x7F80_0001, 0),           // signalling NaN in
     ];
     for &(kind, a, b) in nans {
         let y = eval_one(kind, a, b)?;
@@ -254,6 +266,28 @@ fn an_exhaustive_sweep_of_a_binary_unit_is_refused() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("needs a unary unit"), "{err}");
+}
+
+/// fp_exp over its working range, x in [-104, -0] (the pixel processor
+/// feeds it exposure * colour <= 0): every one of those 1,120,927,745
+/// inputs through the verilated unit against golden::fp::exp, within 1 ULP
+/// of f64 exp. About 13 minutes on two shared cores.
+#[test]
+#[ignore = "1.1e9 inputs through the verilated fp_exp; cargo test --release --test fp_units -- --ignored exp_range"]
+fn exp_range_finds_no_mismatch() -> Result<(), UnitError> {
+    // -0 = 0x8000_0000 up to -104 = 0xC2D0_0000, inclusive.
+    let source = Operands::Span {
+        start: 0x8000_0000,
+        count: 0xC2D0_0000 - 0x8000_0000 + 1,
+    };
+    let report = fp_check::run(UnitKind::Exp, source, &|_| {})?;
+    assert_agrees(&report, source.count(UnitKind::Exp));
+    assert!(report.worst_error.within(1), "{}", report.worst_error);
+    eprintln!(
+        "fp_exp over x in [-104, -0]: {} operands, {} mismatches, {} cycle-count violations, worst error {} (vs f64 exp rounded to f32)",
+        report.operands, report.mismatches, report.latency_violations, report.worst_error
+    );
+    Ok(())
 }
 
 /// The long run: 10^8 random operands per binary unit, and all 2^32 inputs of

@@ -49,11 +49,15 @@ fn a_slice_of_random_scenes_is_refused_or_agrees() {
     let report = campaign(2026, 48, None, &dir);
     assert_kept(&report, 48);
     assert!(!dir.exists(), "no failing scene was written");
-    // The slice reaches most of the controller.
+    // The slice reaches most of the controller, the exposure included.
     assert!(
         report.states().len() > 40,
         "{} states",
         report.states().len()
+    );
+    assert!(
+        report.states().contains(state::EXPO_EXP),
+        "no accepted scene of the slice had an exposure"
     );
 }
 

@@ -4,8 +4,8 @@
 //!
 //! The frame tests run every builtin scene, reduced so the whole file stays
 //! within about a minute, with whole frames (so every silhouette, shadow edge
-//! and horizon of the scene is in): reference, mirror and parallel_plane at
-//! 80x60, grazing at its own 96x72, light_touch at 64x48 and box_room (about
+//! and horizon of the scene is in): reference, mirror, parallel_plane and
+//! overexposed (the exposure) at 80x60, grazing at its own 96x72, light_touch at 64x48 and box_room (about
 //! 1460 cycles a pixel) at 40x30: about 6.3 million golden cycles per method
 //! pair. `cargo test --release -- --ignored` adds the full 800x600 reference
 //! frame.
@@ -106,6 +106,31 @@ fn box_room_frame_agrees() {
     frame_agrees("box_room", 40, 30);
 }
 
+/// The exposure (thesis 3.7) through the RTL: the overexposed scene (colours
+/// up to about 4.4 before it) agrees with golden in every event, colour
+/// and cycle with both method pairs (frame_agrees), including the three
+/// EXPO states of every pixel and the three fp_exp units of the ALU; and
+/// the RTL's frame, which golden's equals bit for bit, lies in [0, 1).
+#[test]
+fn overexposed_frame_agrees() {
+    frame_agrees("overexposed", 80, 60);
+    let scene = builtin("overexposed", 80, 60);
+    assert!(scene.render.exposure.is_some());
+    let options = CosimOptions {
+        keep_frames: true,
+        ..CosimOptions::default()
+    };
+    let report = cosim::run(&scene, Window::full(&scene), &options, &|_| {}).expect("runs");
+    let frames = report.frames.expect("kept");
+    assert_eq!(frames.rtl.saturated_pixels(), 0);
+    assert!(
+        frames.rtl.max_channel() < 1.0,
+        "{}",
+        frames.rtl.max_channel()
+    );
+    assert!(report.compare.states.contains(state::EXPO_EXP));
+}
+
 /// The weight cutoff, co-simulated: the mirror scene with a cutoff that
 /// refuses its two deepest levels' rays (tests/common: every weight is a
 /// power of 0.8, and 0.8^3 < 0.6 < 0.8^2) agrees with golden in every event,
@@ -180,6 +205,7 @@ fn every_builtin_scene_has_a_frame_test() {
         "light_touch",
         "parallel_plane",
         "box_room",
+        "overexposed",
     ];
     for name in Scene::builtin_names() {
         assert!(tested.contains(name), "no frame test for builtin {name}");
@@ -206,7 +232,26 @@ fn an_injected_fault_is_reported_at_its_state_and_golden_line() {
     let scene = builtin("reference", 40, 30);
     let window = Window::new(17, 11, 6, 4);
     // A single-cycle and a multi-cycle state that every pixel visits.
-    for fault_state in [state::PRI_HALF, state::NORM_ROOTS] {
+    assert_faults_caught(&scene, window, &[state::PRI_HALF, state::NORM_ROOTS]);
+}
+
+/// The same for the exposure's three states (every pixel of a scene with
+/// an exposure visits them): a wrong write in EXPO_MUL, EXPO_EXP (the
+/// fp_exp units' result) or EXPO_SUB is caught there.
+#[test]
+fn a_fault_in_the_exposure_is_reported_at_its_state() {
+    let scene = builtin("overexposed", 40, 30);
+    let states = [state::EXPO_MUL, state::EXPO_EXP, state::EXPO_SUB];
+    assert_faults_caught(&scene, Window::new(20, 8, 5, 4), &states);
+}
+
+/// For each state: a fault there (bit 10 of lane x flipped) is caught at
+/// the window's first pixel, at the golden event index of the state's
+/// first write, in that state on both sides, with golden's source line,
+/// and in every pixel.
+fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
+    let scene = scene.clone();
+    for &fault_state in states {
         let xor = 1 << 10;
         let mut first = None;
         golden::micro::render_pixel(&scene, window.x, window.y, |e, at| {

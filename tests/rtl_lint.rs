@@ -50,6 +50,11 @@ fn combinational_units_lint_clean() {
 }
 
 #[test]
+fn fp_exp_lints_clean() {
+    lint(Some("fp_exp"), &[]);
+}
+
+#[test]
 fn multi_cycle_units_lint_clean_with_every_method() {
     for top in ["fp_recip", "fp_sqrt"] {
         for method in golden::fp::Method::ALL {

@@ -112,7 +112,8 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let options = CosimOptions {
         fault: args.fault,
         timeout_cycles: args.timeout_cycles,
-        keep_frames: args.out.is_some(),
+        // Always: the saturation warning reads golden's frame.
+        keep_frames: true,
     };
     let bar = progress_bar(
         window.pixels(),
@@ -137,6 +138,13 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::anyhow!("{e}{hint}").context("co-simulation stopped")
     })?;
     print_report(&mut out, &report, seconds, threads)?;
+    if let Some(warning) = report
+        .frames
+        .as_ref()
+        .and_then(|f| f.golden.saturation_warning())
+    {
+        writeln!(out, "{warning}")?;
+    }
     if let Some(dir) = &args.out {
         let run = artefacts::Run {
             scene_name: &args.scene.scene,

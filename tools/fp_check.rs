@@ -37,6 +37,7 @@ pub enum UnitArg {
     RecipFast,
     SqrtExact,
     SqrtFast,
+    Exp,
 }
 
 impl From<UnitArg> for UnitKind {
@@ -49,6 +50,7 @@ impl From<UnitArg> for UnitKind {
             UnitArg::RecipFast => UnitKind::Recip(Method::Fast),
             UnitArg::SqrtExact => UnitKind::Sqrt(Method::Exact),
             UnitArg::SqrtFast => UnitKind::Sqrt(Method::Fast),
+            UnitArg::Exp => UnitKind::Exp,
         }
     }
 }

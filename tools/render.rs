@@ -127,15 +127,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
     frame.save_png(&args.out)?;
     writeln!(
         out,
-        "{w}x{h} in {seconds:.3} s ({:.2} frames/s), largest channel value {:.6}{}",
+        "{w}x{h} in {seconds:.3} s ({:.2} frames/s), largest channel value {:.6}",
         1.0 / seconds.max(1e-9),
         frame.max_channel(),
-        if frame.max_channel() > 1.0 {
-            " (> 1: saturates, thesis 3.7)"
-        } else {
-            ""
-        }
     )?;
+    if let Some(warning) = frame.saturation_warning() {
+        writeln!(out, "{warning}")?;
+    }
     if let Some(stats) = stats {
         print_cycles(&mut out, &stats)?;
     }

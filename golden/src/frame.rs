@@ -129,6 +129,29 @@ impl Frame {
             .fold(0.0, f64::max)
     }
 
+    /// Pixels with a channel over 1: [`Frame::to_rgb8`] clips them to 255,
+    /// so distinct colours come out the same (saturated). NaN is not over 1.
+    pub fn saturated_pixels(&self) -> u64 {
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|&c| c > 1.0))
+            .count() as u64
+    }
+
+    /// The warning `render` and `cosim` print when the frame has saturated
+    /// pixels ([`Frame::saturated_pixels`]), naming the cure; `None` when
+    /// every channel is at most 1.
+    pub fn saturation_warning(&self) -> Option<String> {
+        let n = self.saturated_pixels();
+        (n > 0).then(|| {
+            format!(
+                "warning: {n} of {} pixels have a channel over 1 (up to {}), clipped to 255 in 8 bits; [render] exposure maps colours into [0, 1) (docs/scenes.md)",
+                self.pixels.len(),
+                self.max_channel()
+            )
+        })
+    }
+
     /// 8-bit sRGB-less RGB bytes, row-major: each channel clamped to [0, 1],
     /// times 255, rounded to nearest (NaN becomes 0).
     pub fn to_rgb8(&self) -> Vec<u8> {

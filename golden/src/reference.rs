@@ -39,6 +39,9 @@
 //!   reflection values above it, 1 for the primary ray; f64) is not below
 //!   the scene's weight cutoff: a ray with `w·kr < weight_cutoff` is not
 //!   spawned (thesis 3.8, end; 0 = off).
+//! - The exposure (thesis 3.7), when the scene sets one: each channel c of
+//!   the pixel becomes `1 - e^(exposure·c)` (f64 `exp`), which maps
+//!   [0, inf) into [0, 1) instead of letting colours over 1 clip.
 
 use crate::frame::Frame;
 use crate::scene::{dvec, RenderSettings, Scene, SceneError, Vec3f, MAX_DEPTH};
@@ -50,7 +53,8 @@ pub const SPECULAR_EXPONENT: i32 = 20;
 
 pub use crate::scene::Object;
 
-/// The colour of pixel (px, py): linear RGB, not clamped.
+/// The colour of pixel (px, py): linear RGB, not clamped (with an exposure,
+/// in [0, 1)).
 pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
     let rotation = camera_rotation(scene.camera.rotation_deg);
     pixel_with(scene, &rotation, px, py)
@@ -59,7 +63,19 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32) -> [f64; 3] {
 /// [`render_pixel`] with the camera rotation computed once per frame.
 fn pixel_with(scene: &Scene, rotation: &DMat3, px: u32, py: u32) -> [f64; 3] {
     let dir = rotated_direction(scene, rotation, px, py);
-    shade(scene, dvec(scene.camera.eye), dir, None, 0, 1.0).to_array()
+    expose(
+        scene.render.exposure,
+        shade(scene, dvec(scene.camera.eye), dir, None, 0, 1.0).to_array(),
+    )
+}
+
+/// The exposure function of thesis 3.7 on one pixel: `1 - e^(exposure·c)`
+/// per channel, or the colour unchanged without an exposure.
+pub fn expose(exposure: Option<f32>, rgb: [f64; 3]) -> [f64; 3] {
+    match exposure {
+        Some(e) => rgb.map(|c| 1.0 - (f64::from(e) * c).exp()),
+        None => rgb,
+    }
 }
 
 /// What accuracy is measured against: the f64 render of `scene` at the

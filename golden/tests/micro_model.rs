@@ -691,6 +691,7 @@ fn random_scenes_keep_the_invariants_and_follow_the_reference() -> TestResult {
             recip: method,
             sqrt: method,
             weight_cutoff: 0.0,
+            exposure: None,
         };
         let build = |settings: RenderSettings| {
             Scene::new(

@@ -550,3 +550,102 @@ fn a_shallow_stack_truncates_the_mirror_scene_visibly_and_exactly() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------
+// Colour over 1 (thesis 3.7)
+// ---------------------------------------------------------------------------
+
+/// Colour over 1: the overexposed scene (the mirror layout with bright,
+/// shiny, reflective materials) computes channels up to 1.98, which 8-bit
+/// output clips to 255, so distinct colours come out the same. Without an exposure the failure
+/// is *detected*: `Frame::saturated_pixels` counts the clipped pixels (the
+/// warning line `render` and `cosim` print), and the micro-op model's
+/// count is the f64 reference's up to pixels whose channels round across 1.
+/// With the exposure (-1.0) it is *prevented*: every channel lies in
+/// [0, 1), nothing is clipped, and the frame matches the f64 reference
+/// (1 - e^(exposure * c) in f64) with visible differences only on edges and
+/// a mean error below 0.01 on the 0..255 scale (measured: none visible,
+/// mean 0.0000, max 0.009).
+///
+/// Guards: the exposure states (`Program::expose` in
+/// golden/src/micro/program.rs) and the detection
+/// (`Frame::saturated_pixels` in golden/src/frame.rs). Removed one at a
+/// time: `expose` returning at once failed "with the exposure: 1717 of
+/// 4800 pixels clipped"; a count that always returns 0 failed "without the
+/// exposure: no saturated pixel detected, the reference has 1717".
+#[test]
+fn colour_over_1_is_detected_without_exposure_and_prevented_with_it() {
+    let on = builtin("overexposed", 80, 60);
+    let exposure = on.render.exposure.expect("the scene sets one");
+    let mut render = on.render;
+    render.exposure = None;
+    let off = on.with_render(render, "no exposure").expect("valid");
+    let n = off.pixel_count();
+
+    // Without: detected, against the reference.
+    let (m_off, r_off) = (micro(&off), reference(&off));
+    // Counted here, not by the function under test.
+    let truth = r_off
+        .pixels
+        .iter()
+        .filter(|p| p[0] > 1.0 || p[1] > 1.0 || p[2] > 1.0)
+        .count() as u64;
+    let seen = m_off.saturated_pixels();
+    assert!(
+        truth > n / 10,
+        "the scene goes over 1 in {truth} of {n} pixels only"
+    );
+    assert!(
+        seen > 0,
+        "without the exposure: no saturated pixel detected, the reference has {truth}"
+    );
+    let near_one = r_off
+        .pixels
+        .iter()
+        .filter(|p| p.iter().any(|&c| (c - 1.0).abs() < 1e-5))
+        .count() as u64;
+    assert!(
+        seen.abs_diff(truth) <= near_one,
+        "micro counts {seen}, the reference {truth} ({near_one} pixels within 1e-5 of 1)"
+    );
+    let warning = m_off.saturation_warning().expect("a warning");
+    assert!(
+        warning.contains(&format!("{seen} of {n} pixels")),
+        "{warning}"
+    );
+    // What the warning is about: the clipped pixels' 8-bit colours lose
+    // what the reference tells apart.
+    let clipped = |f: &Frame| {
+        let mut set: Vec<[u8; 3]> = f
+            .pixels
+            .iter()
+            .filter(|p| p.iter().any(|&c| c > 1.0))
+            .map(|p| p.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+            .collect();
+        set.sort_unstable();
+        set.dedup();
+        set.len()
+    };
+
+    // With: prevented, and the frame matches the reference.
+    let (m_on, r_on) = (micro(&on), reference(&on));
+    assert_eq!(
+        m_on.saturated_pixels(),
+        0,
+        "with the exposure: {} of {n} pixels clipped",
+        m_on.saturated_pixels()
+    );
+    assert!(m_on.saturation_warning().is_none());
+    assert!(m_on.max_channel() < 1.0 && r_on.max_channel() < 1.0);
+    Versus::of(&on).assert_on_edges("overexposed with the exposure");
+    let (mean, max, share) = error(&m_on, &r_on);
+    println!(
+        "overexposed 80x60: without the exposure {seen} micro / {truth} reference pixels over 1 (largest {:.3}), {} distinct 8-bit colours among them; \
+         with exposure {exposure}: largest channel {:.6}, against the reference mean {mean:.4}, max {max:.3} on 0..255, {:.2}% of pixels visibly off (all on edges)",
+        r_off.max_channel(),
+        clipped(&m_off),
+        m_on.max_channel(),
+        100.0 * share
+    );
+    assert!(mean < 0.01, "mean error {mean}/255");
+}

@@ -14,6 +14,7 @@
 #include "verilated_owned.h"
 
 #include "Vfp_add.h"
+#include "Vfp_exp.h"
 #include "Vfp_itof.h"
 #include "Vfp_mul.h"
 #include "Vfp_recip_exact.h"
@@ -116,6 +117,7 @@ std::unique_ptr<FpUnit> new_fp_unit(FpModel model) {
         case FpModel::RecipFast: return std::make_unique<SeqUnit<Vfp_recip_fast>>("fp_recip(fast)");
         case FpModel::SqrtExact: return std::make_unique<SeqUnit<Vfp_sqrt_exact>>("fp_sqrt(exact)");
         case FpModel::SqrtFast: return std::make_unique<SeqUnit<Vfp_sqrt_fast>>("fp_sqrt(fast)");
+        case FpModel::Exp: return std::make_unique<SeqUnit<Vfp_exp>>("fp_exp");
     }
     throw std::invalid_argument("unknown float unit model " + std::to_string(static_cast<int>(model)));
 }

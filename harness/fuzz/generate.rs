@@ -7,7 +7,7 @@
 //!
 //! What it varies: 0 to 8 spheres and 0 to 6 planes (so, now and then, no
 //! object at all), materials, colours, the light and the camera, the stack
-//! depth, both float methods, each speed-up, the weight cutoff. Magnitudes span the whole
+//! depth, both float methods, each speed-up, the weight cutoff, the exposure. Magnitudes span the whole
 //! accepted range: a scene has a scale anywhere from 2^-58 to 2^58 (most
 //! often a familiar one), and any value may instead sit exactly on a limit
 //! of `golden::scene` or just past it. A scene with a value past a limit is
@@ -16,8 +16,8 @@
 //! campaign runs.
 
 use golden::scene::{
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE,
-    MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
+    MIN_DISTANCE, MIN_RADIUS,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -284,6 +284,30 @@ pub fn scene(seed: u64, index: u64) -> Generated {
             f64::from(g.rng.random_range(0.0f32..0.7))
         };
         let _ = writeln!(t, "weight_cutoff = {}", num(cutoff));
+    }
+    // The exposure (drawn after the cutoff, for the same reason): in a
+    // quarter of the scenes, mostly a familiar one, now and then exactly on
+    // its limit (-MAX_EXPOSURE, the smallest negative f32) or just past one
+    // (0, -MAX_EXPOSURE one step further, a positive value).
+    if g.chance(0.25) {
+        let limit = -f64::from(MAX_EXPOSURE);
+        let exposure = if g.chance(0.01) {
+            g.past = true;
+            match g.rng.random_range(0..3) {
+                0 => 0.0,
+                1 => -f32_up(MAX_EXPOSURE),
+                _ => 1.0,
+            }
+        } else if g.chance(0.05) {
+            if g.chance(0.5) {
+                limit
+            } else {
+                -f64::from(f32::from_bits(1))
+            }
+        } else {
+            f64::from(g.rng.random_range(-4.0f32..-0.05))
+        };
+        let _ = writeln!(t, "exposure = {}", num(exposure));
     }
     Generated {
         seed,

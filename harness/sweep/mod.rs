@@ -120,9 +120,8 @@ impl Config {
     /// `scene` with this configuration, validated again: a speed-up whose
     /// precondition the scene breaks is refused here, in the scene's words.
     pub fn apply(&self, scene: &Scene, origin: &str) -> Result<Scene, SceneError> {
-        // The update keeps every setting this type does not name (none
-        // today: the grid varies them all).
-        #[allow(clippy::needless_update)]
+        // The update keeps every setting this type does not name (the
+        // exposure: part of the picture, not of the configuration).
         let render = RenderSettings {
             max_depth: self.depth,
             speedups: self.speedups,

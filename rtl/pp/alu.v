@@ -15,6 +15,7 @@
 //   itof       lanes x and y convert ix and iy; lane z is +0
 //   fp_recip   1 / A.x (1 / A.y when UNIT_A_Y), multi-cycle
 //   fp_sqrt    sqrt(A.x), multi-cycle
+//   fp_exp     e^A.i in each lane i (three units), multi-cycle
 //   F          96-bit internal register (eq. 30), written at the edge ending
 //              a cycle whose F_SEL is not HOLD
 //
@@ -24,7 +25,9 @@
 // takes the unit's latency + 1 cycles (golden::fp::recip_latency,
 // sqrt_latency). Their result is <unit y, +0, +0>. ROOTS starts both units
 // in its first cycle and is done when both results are in (max latency + 1
-// cycles); its result is <sqrt y, recip y, +0>.
+// cycles); its result is <sqrt y, recip y, +0>. EXP starts the three fp_exp
+// units in its first cycle, which finish together (fp_exp latency + 1
+// cycles: golden::fp::exp_latency); its result is <e^A.x, e^A.y, e^A.z>.
 //
 // The flags describe y, lane by lane, for the controller's branches:
 // y_neg (< 0: sign, not zero, not NaN), y_pos (> 0) and the raw sign bit.
@@ -66,6 +69,7 @@ module alu #(
     wire       unit_a_y = ctrl[`ALU_CTRL_UNIT_A_Y];
     wire       roots    = ctrl[`ALU_CTRL_ROOTS];
     wire       double   = ctrl[`ALU_CTRL_DOUBLE];
+    wire       is_exp   = ctrl[`ALU_CTRL_EXP];
 
     // ------------------------------------------------------------------------
     // Registers
@@ -195,20 +199,38 @@ module alu #(
         .y         (sqrt_y)
     );
 
+    // One fp_exp per lane, started together: they finish in the same cycle.
+    wire [2:0]  exp_valid;
+    wire [95:0] exp_y;
+    genvar ge;
+    generate
+        for (ge = 0; ge < 3; ge = ge + 1) begin : g_exp
+            fp_exp u_exp (
+                .clk       (clk),
+                .rst_n     (rst_n),
+                .in_valid  (is_exp & ~busy_q),
+                .a         (a[32*ge +: 32]),
+                .out_valid (exp_valid[ge]),
+                .y         (exp_y[32*ge +: 32])
+            );
+        end
+    endgenerate
+
     // Only the op's own unit can finish it; ROOTS needs both units, whose
     // out_valid pulses may come in different cycles (y holds each result).
     wire recip_in = recip_valid | recip_got_q;
     wire sqrt_in  = sqrt_valid | sqrt_got_q;
-    wire unit_done = roots ? (recip_in & sqrt_in)
-                           : (is_recip & recip_valid) | (is_sqrt & sqrt_valid);
+    wire unit_done = roots  ? (recip_in & sqrt_in)
+                   : is_exp ? (&exp_valid)
+                   : (is_recip & recip_valid) | (is_sqrt & sqrt_valid);
 
-    // Set by the first cycle of RECIP/RECIPY/SQRT/ROOTS, cleared when it is
+    // Set by the first cycle of RECIP/RECIPY/SQRT/ROOTS/EXP, cleared when it is
     // done; ROOTS remembers which results have arrived until then.
     always @* begin
         busy_d      = busy_q;
         recip_got_d = recip_got_q;
         sqrt_got_d  = sqrt_got_q;
-        if ((is_recip | is_sqrt) & ~busy_q) busy_d = 1'b1;
+        if ((is_recip | is_sqrt | is_exp) & ~busy_q) busy_d = 1'b1;
         if (roots & recip_valid) recip_got_d = 1'b1;
         if (roots & sqrt_valid)  sqrt_got_d  = 1'b1;
         if (unit_done) begin
@@ -265,10 +287,11 @@ module alu #(
             `ALU_RES_SQRT:  result = {POS_ZERO, roots ? recip_y : POS_ZERO, sqrt_y};
             default:        result = {POS_ZERO, POS_ZERO, POS_ZERO};
         endcase
+        if (is_exp) result = exp_y;
     end
 
     assign y    = result;
-    assign done = (is_recip | is_sqrt) ? unit_done : 1'b1;
+    assign done = (is_recip | is_sqrt | is_exp) ? unit_done : 1'b1;
 
     // ------------------------------------------------------------------------
     // Flags

@@ -34,6 +34,7 @@
 //   RECIPY   -                -                          hold               1 / A.y
 //   SQRT     -                -                          hold               sqrt(A.x)
 //   ROOTS    -                -                          hold               <sqrt(A.x), 1 / A.x, +0>
+//   EXP      -                -                          hold               <e^A.x, e^A.y, e^A.z>
 //
 // NOP and the unassigned opcodes decode to all-default controls: y = +0,
 // F held, single-cycle, no register-file write.
@@ -52,6 +53,7 @@ module alu_ctrl (
     reg       unit_a_y;
     reg       roots;
     reg       double;
+    reg       exp;
     reg       writes;
 
     always @* begin
@@ -69,6 +71,7 @@ module alu_ctrl (
         unit_a_y = 1'b0;
         roots    = 1'b0;
         double   = 1'b0;
+        exp      = 1'b0;
         writes   = 1'b0;
         case (op)
             `ISA_OP_ADD: begin
@@ -203,6 +206,10 @@ module alu_ctrl (
                 roots   = 1'b1;
                 writes  = 1'b1;
             end
+            `ISA_OP_EXP: begin
+                exp    = 1'b1;
+                writes = 1'b1;
+            end
             default: ;
         endcase
     end
@@ -226,6 +233,7 @@ module alu_ctrl (
         packed_ctrl[`ALU_CTRL_UNIT_A_Y] = unit_a_y;
         packed_ctrl[`ALU_CTRL_ROOTS]    = roots;
         packed_ctrl[`ALU_CTRL_DOUBLE]   = double;
+        packed_ctrl[`ALU_CTRL_EXP]      = exp;
     end
 
     assign ctrl      = packed_ctrl;

@@ -14,11 +14,12 @@
 // F. RES_SEL = RECIP or SQRT makes the op multi-cycle: the unit starts in
 // the op's first cycle and the op is done when the unit's out_valid rises;
 // with ROOTS both units start and the op is done when both have finished.
+// EXP likewise starts the three fp_exp units (one per lane).
 // ============================================================================
 `ifndef ALU_CTRL_VH
 `define ALU_CTRL_VH
 
-`define ALU_CTRL_W 22
+`define ALU_CTRL_W 23
 
 // ---------------------------------------------------------------------------
 // Fields
@@ -38,6 +39,8 @@
 `define ALU_CTRL_ROOTS 20         // ROOTS: with RES_SEL = SQRT, fp_recip starts too and
                                   // y = <sqrt, recip, +0> when both are done
 `define ALU_CTRL_DOUBLE 21        // double the products (MUL2X): exponent + 1, exact
+`define ALU_CTRL_EXP 22           // EXP: y = the three fp_exp results (one per lane of A),
+                                  // multi-cycle (RES_SEL is ignored)
 
 // ---------------------------------------------------------------------------
 // Codes

@@ -68,6 +68,7 @@
 `define ISA_OP_SQRT 26    // Y.x = sqrt(A.x); multi-cycle: fp_sqrt latency + 1
 `define ISA_OP_ROOTS 27   // Y.x = sqrt(A.x), Y.y = 1 / A.x: fp_sqrt and fp_recip at once;
                           // multi-cycle: max(fp_sqrt, fp_recip latency) + 1
+`define ISA_OP_EXP 28     // Y = e^A, every lane (three fp_exp units at once); multi-cycle: fp_exp latency + 1
 
 // ---------------------------------------------------------------------------
 // Register file (7-bit addresses). Scene registers are written once per
@@ -100,7 +101,10 @@
 `define ISA_DIM_ROT_COUNT 3
 `define ISA_DIM_ROT_STRIDE 2
 `define ISA_REG_ROT0_C 60      // lane a: 1, lanes u, v: c
-`define ISA_REG_ROT0_S 61      // lane a: 0, lane u: -s, lane v: s
+`define ISA_REG_ROT0_S 61      // lane a: 0, lane u: -s, lane v: s (ROT0_S lane x: the exposure, below)
+// Lane a of ROTa_S is never read by a write (ROT_SIN_U/V write lanes u and
+// v only), so lane x of ROT0_S holds the scene's exposure (render.exposure,
+// 0 when off): EXPO_MUL multiplies the pixel's colour by it (MULX).
 // Bounding box corners k = 0..7 at 66 + k: lane i is the box maximum if bit i
 // of k is set, else the minimum (BOX0 = minimum, BOX7 = maximum corner).
 `define ISA_DIM_BOX_COUNT 8
@@ -162,6 +166,7 @@
 `define ISA_DIM_CFG_SHORTCUT_LSB 14  // 1 bit: shadow shortcut (3.10.3)
 `define ISA_DIM_CFG_CUTOFF_LSB 15    // 1 bit: weight cutoff (3.8, end): CUT_W, CUT_CMP before a push
 `define ISA_DIM_CFG_ROTATE_LSB 16    // ISA_DIM_ROT_COUNT bits: rotate the primary ray about x, y, z
+`define ISA_DIM_CFG_EXPOSURE_LSB 19  // 1 bit: exposure (thesis 3.7): EXPO_MUL, EXPO_EXP, EXPO_SUB before PIX_DONE
 `define ISA_DIM_CFG_SPH_BITS_LSB 32  // ISA_DIM_CFG_MAT_BITS per sphere k at + MAT_BITS * k
 `define ISA_DIM_CFG_PLN_BITS_LSB 56  // ISA_DIM_CFG_MAT_BITS per plane j at + MAT_BITS * j
 `define ISA_DIM_CFG_MAT_BITS 3       // an object's material bits: diffuse (bit 0), specular, reflective
@@ -245,5 +250,10 @@
 `define ISA_ST_POP_ADD 90          // PAR_COL = PAR_COL + CUR_COL
 `define ISA_ST_POP_MOV 91          // PAR_COL = CUR_COL (the parent got no light)
 `define ISA_ST_ROOT_BLACK 92       // STK0_COL = ZERO (no light reached the pixel)
+// Exposure (thesis 3.7; with ISA_DIM_CFG_EXPOSURE_LSB set, after the
+// unwinding, before PIX_DONE): STK0_COL = 1 - e^(exposure * STK0_COL).
+`define ISA_ST_EXPO_MUL 93         // U = STK0_COL * exposure (MULX, ROT0_S lane x)
+`define ISA_ST_EXPO_EXP 94         // U = e^U (EXP, every lane)
+`define ISA_ST_EXPO_SUB 95         // STK0_COL = ONE - U
 
 `endif

@@ -34,7 +34,7 @@
 // from the object under test. The two searches (nearest_hit, shadowed)
 // share the object loop: ctx_q says which, and fixes the ray under test.
 //
-// A multi-cycle instruction (RECIP, RECIPY, SQRT, ROOTS) holds its state,
+// A multi-cycle instruction (RECIP, RECIPY, SQRT, ROOTS, EXP) holds its state,
 // and every other register, until alu_done; every other instruction is done
 // in its cycle (alu.v).
 // ============================================================================
@@ -135,13 +135,14 @@ module pp_ctrl (
     wire                 shortcut  = cfg[`ISA_DIM_CFG_SHORTCUT_LSB];
     wire                 cutoff    = cfg[`ISA_DIM_CFG_CUTOFF_LSB];
     wire [ROT_N-1:0]     rotate    = cfg[`ISA_DIM_CFG_ROTATE_LSB +: ROT_N];
+    wire                 exposure  = cfg[`ISA_DIM_CFG_EXPOSURE_LSB];
     wire [SPH_N*MB-1:0]  sph_bits  = cfg[`ISA_DIM_CFG_SPH_BITS_LSB +: SPH_N*MB];
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
     wire [PLN_N*AB-1:0]  pln_axis  = cfg[`ISA_DIM_CFG_PLN_AXIS_LSB +: PLN_N*AB];
     wire [PLN_N-1:0]     pln_neg   = cfg[`ISA_DIM_CFG_PLN_NEG_LSB +: PLN_N];
     // The word's spare bits.
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
-                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_ROTATE_LSB + ROT_N],
+                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_EXPOSURE_LSB + 1],
                         cfg[`ISA_DIM_CFG_DEPTH_LSB - 1:`ISA_DIM_CFG_PLANES_LSB + NPW]};
 
     // ------------------------------------------------------------------------
@@ -397,10 +398,14 @@ module pp_ctrl (
     wire [RW-1:0] best_cut = best_kind_q == K_SPH ? sphere(best_idx_q, `ISA_REG_SPH0_R)
                                                   : plane(best_idx_q, `ISA_REG_PLN0_Q);
 
+    // The state after the pixel's colour is complete: the exposure (expose
+    // in program.rs) when the scene has one, else PIX_DONE.
+    wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
+
     // unwind: skip the uncoloured levels above the highest coloured one at
     // or below `top` (their `if` issues nothing), then one POP per level
-    // down to 1: {st, sp}.
-    function [SW+SPW-1:0] unwind(input [SPW-1:0] top, input [STK_N-1:0] col);
+    // down to 1, then `last` (or ROOT_BLACK if level 0 has no colour): {st, sp}.
+    function [SW+SPW-1:0] unwind(input [SPW-1:0] top, input [STK_N-1:0] col, input [SW-1:0] last);
         integer   l;
         reg       found;
         reg [SPW-1:0] lvl;
@@ -416,7 +421,7 @@ module pp_ctrl (
             if (found)
                 unwind[SPW +: SW] = col[lvl - 1'b1] ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
             else
-                unwind[SPW +: SW] = col[0] ? `ISA_ST_PIX_DONE : `ISA_ST_ROOT_BLACK;
+                unwind[SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
         end
     endfunction
 
@@ -424,7 +429,7 @@ module pp_ctrl (
     localparam integer JW = SW + SPW + CALLW + 1 + OW;
     localparam integer J_IDX = 0, J_KIND = OW, J_CALL = OW + 1, J_ST = OW + 1 + CALLW + SPW;
     wire [JW-1:0] stay       = {st_q, sp_q, call_q, kind_q, idx_q};
-    wire [JW-1:0] unwind_now = {unwind(sp_q, col_q), call_q, kind_q, idx_q};
+    wire [JW-1:0] unwind_now = {unwind(sp_q, col_q, pixel_end), call_q, kind_q, idx_q};
 
     // shade, from the term `from` on (n.l and diffuse, reflected direction,
     // specular, local colour): the next term the object's bits and `lit`
@@ -1000,7 +1005,7 @@ module pp_ctrl (
                 la_b = shading_w;
                 col_d[shading_level] = 1'b1;
                 if (push_q) st_d = `ISA_ST_SH_CHILD_W;
-                else        {st_d, sp_d} = unwind(sp_q, col_d);
+                else        {st_d, sp_d} = unwind(sp_q, col_d, pixel_end);
             end
             // CUR_W = PAR_W * kr, then the child's nearest_hit
             `ISA_ST_SH_CHILD_W: begin
@@ -1014,17 +1019,34 @@ module pp_ctrl (
             // PAR_COL = PAR_COL + CUR_COL, then the level below
             `ISA_ST_POP_ADD: begin
                 op = `ISA_OP_ADD; la_w = `ISA_REG_PAR_COL; la_a = `ISA_REG_PAR_COL; la_b = `ISA_REG_CUR_COL;
-                {st_d, sp_d} = unwind(sp_q - 1'b1, col_q);
+                {st_d, sp_d} = unwind(sp_q - 1'b1, col_q, pixel_end);
             end
             // PAR_COL = CUR_COL (the parent got no light), then the level below
             `ISA_ST_POP_MOV: begin
                 op = `ISA_OP_MOV; la_w = `ISA_REG_PAR_COL; la_a = `ISA_REG_CUR_COL;
                 col_d[sp_q - 1'b1] = 1'b1;
-                {st_d, sp_d} = unwind(sp_q - 1'b1, col_d);
+                {st_d, sp_d} = unwind(sp_q - 1'b1, col_d, pixel_end);
             end
             // STK0_COL = ZERO: no light reached the pixel
             `ISA_ST_ROOT_BLACK: begin
                 op = `ISA_OP_MOV; la_w = `ISA_REG_CUR_COL; la_a = `ISA_REG_ZERO;
+                st_d = pixel_end;
+            end
+
+            // ---- expose: colour = 1 - e^(exposure * colour), at sp = 0 ------
+            // U = STK0_COL * exposure (lane x of ROT0_S)
+            `ISA_ST_EXPO_MUL: begin
+                op = `ISA_OP_MULX; la_w = T_U; la_a = `ISA_REG_CUR_COL; la_b = `ISA_REG_ROT0_S;
+                st_d = `ISA_ST_EXPO_EXP;
+            end
+            // U = e^U, every lane
+            `ISA_ST_EXPO_EXP: begin
+                op = `ISA_OP_EXP; la_w = T_U; la_a = T_U;
+                if (alu_done) st_d = `ISA_ST_EXPO_SUB;
+            end
+            // STK0_COL = ONE - U
+            `ISA_ST_EXPO_SUB: begin
+                op = `ISA_OP_SUB; la_w = `ISA_REG_CUR_COL; la_a = `ISA_REG_ONE; la_b = T_U;
                 st_d = `ISA_ST_PIX_DONE;
             end
             // Raise done; the pixel's colour leaves through read port A.

@@ -253,7 +253,7 @@ mod tests {
         for k in -45..=45 {
             let label = decade_label(k);
             assert!(label.len() <= 5, "{label}");
-            assert!(label.chars().all(|c| font::has_glyph(c)), "{label}");
+            assert!(label.chars().all(font::has_glyph), "{label}");
         }
     }
 }

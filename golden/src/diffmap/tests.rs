@@ -177,7 +177,7 @@ fn a_nan_on_one_side_is_its_own_colour_and_an_infinite_difference() {
 #[test]
 fn the_font_has_every_character_of_the_titles() {
     for title in ULP_TITLE.iter().chain(&ABS_TITLE).chain(&["0", "NaN"]) {
-        assert!(title.chars().all(|c| font::has_glyph(c)), "{title}");
+        assert!(title.chars().all(font::has_glyph), "{title}");
         assert!(
             font::text_width(title, 1) <= draw::LEGEND_WIDTH - 8,
             "{title}"

@@ -21,6 +21,7 @@
 //! [`ulp::UlpDistance`] treats every NaN as equal to every other NaN: it is
 //! for accuracy against the f64 reference, not for bit-exactness.
 
+mod exp;
 mod recip;
 mod round;
 mod sqrt;
@@ -144,6 +145,24 @@ pub fn sqrt_datapath(a: u32, method: Method) -> u32 {
     sqrt::sqrt_bits(a, method)
 }
 
+/// `fp_exp`: `e^a`, within 1 ULP of the correctly rounded result over
+/// every input (not correctly rounded; the method is in the `exp` module
+/// and docs/fp.md, the error measured by the ignored test
+/// `exp_error_over_every_f32_input`). NaN gives [`CANONICAL_NAN`], `-inf`
+/// and `a < -103.97` give `+0` (through the subnormals), `+-0` gives 1,
+/// `a > 88.72` gives `+inf`.
+#[inline]
+pub fn exp(a: f32) -> f32 {
+    f32::from_bits(exp::exp_bits(a.to_bits()))
+}
+
+/// `e^a` correctly rounded to f32 as far as f64 can tell: the f64 `exp`
+/// (within an f64 ULP) rounded once to f32. The truth [`exp`]'s error is
+/// measured against (NaN canonical).
+pub fn exp_reference(a: f32) -> f32 {
+    canonical(f64::from(a).exp() as f32)
+}
+
 /// Cycles from the clock edge that samples `in_valid` to the edge after which
 /// `out_valid` is high, for `fp_recip`. The latency does not depend on the
 /// operand.
@@ -152,6 +171,11 @@ pub const fn recip_latency(method: Method) -> u32 {
         Method::Exact => 5,
         Method::Fast => 4,
     }
+}
+
+/// Latency of `fp_exp` in cycles (it has one method); see [`recip_latency`].
+pub const fn exp_latency() -> u32 {
+    5
 }
 
 /// Latency of `fp_sqrt` in cycles; see [`recip_latency`].

@@ -46,6 +46,7 @@ impl Alu {
             op::RECIP | op::RECIPY => u64::from(fp::recip_latency(self.recip)) + 1,
             op::SQRT => u64::from(fp::sqrt_latency(self.sqrt)) + 1,
             op::ROOTS => u64::from(roots_latency(self.recip, self.sqrt)) + 1,
+            op::EXP => u64::from(fp::exp_latency()) + 1,
             _ => 1,
         }
     }
@@ -209,6 +210,12 @@ impl Alu {
         } else {
             fp::recip(x, self.recip)
         }
+    }
+
+    /// EXP: `e^v` in every lane (three fp_exp units started together).
+    #[inline(always)]
+    pub fn exp(v: Vec3f) -> Vec3f {
+        lanes3(|i| fp::exp(v[i]))
     }
 
     /// ROOTS: `<sqrt(x), 1 / x, 0>`, both units started in the same cycle.

@@ -524,6 +524,17 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         self.retire(st, op::ROOTS, y, Lanes::X | Lanes::Y, v, at)
     }
 
+    /// EXP: Y = e^A in every lane of `m`, three fp_exp units started in the
+    /// same cycle; written together when they are done (they finish
+    /// together).
+    #[track_caller]
+    #[inline(always)]
+    pub fn exp(&mut self, st: State, y: Reg, a: Reg, m: Lanes) -> Written {
+        let at = Location::caller();
+        let v = Alu::exp(self.read(a, m, at));
+        self.retire(st, op::EXP, y, m, v, at)
+    }
+
     #[inline(always)]
     fn unary(
         &mut self,

@@ -24,7 +24,8 @@ const _: () = assert!(dim::CFG_BBOX_LSB < dim::CFG_FAST_PLANE_LSB);
 const _: () = assert!(dim::CFG_FAST_PLANE_LSB < dim::CFG_SHORTCUT_LSB);
 const _: () = assert!(dim::CFG_SHORTCUT_LSB < dim::CFG_CUTOFF_LSB);
 const _: () = assert!(dim::CFG_CUTOFF_LSB < dim::CFG_ROTATE_LSB);
-const _: () = assert!(dim::CFG_ROTATE_LSB + 3 <= dim::CFG_SPH_BITS_LSB);
+const _: () = assert!(dim::CFG_ROTATE_LSB + 3 <= dim::CFG_EXPOSURE_LSB);
+const _: () = assert!(dim::CFG_EXPOSURE_LSB < dim::CFG_SPH_BITS_LSB);
 const _: () = assert!(dim::CFG_SPH_BITS_LSB + 3 * MAX_SPHERES <= dim::CFG_PLN_BITS_LSB);
 const _: () = assert!(dim::CFG_PLN_BITS_LSB + 3 * MAX_PLANES <= dim::CFG_PLN_AXIS_LSB);
 const _: () = assert!(dim::CFG_PLN_AXIS_LSB + 2 * MAX_PLANES <= dim::CFG_PLN_NEG_LSB);
@@ -75,6 +76,10 @@ pub struct Config {
     /// preceded by CUT_W and CUT_CMP. The value is in lane z of each
     /// object's SPHk_R / PLNj_Q register ([`scene_writes`]).
     pub cutoff: bool,
+    /// The exposure is on (render.exposure is set): EXPO_MUL, EXPO_EXP and
+    /// EXPO_SUB before PIX_DONE. The value is in lane x of ROT0_S
+    /// ([`scene_writes`]).
+    pub exposure: bool,
     /// Rotate the primary ray about axis a (x, y, z): false when the angle's
     /// cos is exactly 1 and its sin exactly 0, so the rotation is skipped.
     pub rotate: [bool; 3],
@@ -96,6 +101,7 @@ impl Config {
             recip: scene.render.recip,
             sqrt: scene.render.sqrt,
             cutoff: scene.render.cutoff_on(),
+            exposure: scene.render.exposure.is_some(),
             rotate: [0, 1, 2]
                 .map(|a| !(scene.derived.cos[a] == 1.0 && scene.derived.sin[a] == 0.0)),
             sphere_bits: [MaterialBits::default(); MAX_SPHERES],
@@ -132,6 +138,7 @@ impl Config {
             u128::from(self.speedups.shadow_shortcut),
         );
         put(dim::CFG_CUTOFF_LSB, u128::from(self.cutoff));
+        put(dim::CFG_EXPOSURE_LSB, u128::from(self.exposure));
         for a in 0..3 {
             put(dim::CFG_ROTATE_LSB + a, u128::from(self.rotate[a]));
         }
@@ -198,6 +205,11 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
         cv[v] = c;
         sv[u] = -s;
         sv[v] = s;
+        if a == 0 {
+            // Lane a of ROTa_S is read by no write: ROT0_S.x is the
+            // exposure (isa.vh), +0 when off.
+            sv[0] = scene.render.exposure.unwrap_or(0.0);
+        }
         let (rc, rs) = isa::rot(a);
         w.push((rc, cv));
         w.push((rs, sv));
@@ -326,6 +338,7 @@ mod tests {
             u128::from(s.shadow_shortcut)
         );
         assert_eq!(field(dim::CFG_CUTOFF_LSB, 1), 0);
+        assert_eq!(field(dim::CFG_EXPOSURE_LSB, 1), 0);
         assert_eq!(field(dim::CFG_ROTATE_LSB, 3), 0b001);
         for k in 0..2 {
             assert_eq!(

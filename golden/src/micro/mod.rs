@@ -31,6 +31,7 @@
 //!            recip_latency(m) + 1     RECIP, RECIPY (issue with in_valid,
 //!            sqrt_latency(m) + 1      SQRT           write when out_valid)
 //!            max of the two + 1       ROOTS (both units at once)
+//!            exp_latency() + 1        EXP (three fp_exp units at once)
 //!        + 1                          PIX_DONE: raise done
 //! ```
 //!

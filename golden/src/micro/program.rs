@@ -164,6 +164,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             from = Some(obj);
         }
         self.unwind();
+        self.expose();
         self.core
             .peek(isa::stack(0, isa::RayField::Col))
             .expect("the root colour is written before PIX_DONE")
@@ -189,6 +190,21 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         let core = &mut self.core;
         core.mulz(State::CUT_W, t::U, Reg::CUR_W, mat, Lanes::Z);
         core.sub(State::CUT_CMP, t::G, t::U, c, Lanes::Z).neg(2)
+    }
+
+    /// The exposure function (thesis 3.7), with the configuration's bit
+    /// set: STK0_COL = 1 - e^(exposure * STK0_COL) in every lane, after the
+    /// unwinding (sp = 0, so CUR_COL is STK0_COL). The exposure is lane x
+    /// of ROT0_S (isa.vh).
+    fn expose(&mut self) {
+        if !self.cfg.exposure {
+            return;
+        }
+        let (_, exposure) = isa::rot(0);
+        let c = &mut self.core;
+        c.mulx(State::EXPO_MUL, t::U, Reg::CUR_COL, exposure, Lanes::XYZ);
+        c.exp(State::EXPO_EXP, t::U, t::U, Lanes::XYZ);
+        c.sub(State::EXPO_SUB, Reg::CUR_COL, Reg::ONE, t::U, Lanes::XYZ);
     }
 
     fn bits(&self, obj: Object) -> MaterialBits {

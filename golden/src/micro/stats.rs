@@ -25,10 +25,12 @@ pub enum OpClass {
     Sqrt,
     /// ROOTS: fp_sqrt and fp_recip started together.
     Roots,
+    /// EXP: the three fp_exp units (the exposure).
+    Exp,
 }
 
 impl OpClass {
-    pub const COUNT: usize = 9;
+    pub const COUNT: usize = 10;
     pub const ALL: [OpClass; OpClass::COUNT] = [
         OpClass::Add,
         OpClass::Mul,
@@ -39,6 +41,7 @@ impl OpClass {
         OpClass::Recip,
         OpClass::Sqrt,
         OpClass::Roots,
+        OpClass::Exp,
     ];
 
     /// The class of opcode `code`; `None` for NOP and unknown codes.
@@ -61,6 +64,7 @@ impl OpClass {
             op::RECIP | op::RECIPY => OpClass::Recip,
             op::SQRT => OpClass::Sqrt,
             op::ROOTS => OpClass::Roots,
+            op::EXP => OpClass::Exp,
             _ => return None,
         })
     }
@@ -76,6 +80,7 @@ impl OpClass {
             OpClass::Recip => "recip",
             OpClass::Sqrt => "sqrt",
             OpClass::Roots => "roots",
+            OpClass::Exp => "exp",
         }
     }
 }

@@ -12,6 +12,7 @@ const BUILTINS: &[(&str, &str)] = &[
         include_str!("../../scenes/parallel_plane.toml"),
     ),
     ("box_room", include_str!("../../scenes/box_room.toml")),
+    ("overexposed", include_str!("../../scenes/overexposed.toml")),
 ];
 
 /// The names of [`BUILTINS`], in its order.

@@ -155,6 +155,9 @@ pub(super) struct RawRender {
     /// Written only when on, so that scenes without it keep their text.
     #[serde(skip_serializing_if = "is_zero")]
     pub weight_cutoff: f64,
+    /// Absent means off, and is not written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exposure: Option<f64>,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -172,6 +175,7 @@ impl Default for RawRender {
             recip: RawMethod::Exact,
             sqrt: RawMethod::Exact,
             weight_cutoff: 0.0,
+            exposure: None,
         }
     }
 }
@@ -263,6 +267,7 @@ impl RawScene {
                 recip: render.recip.into(),
                 sqrt: render.sqrt.into(),
                 weight_cutoff: f64::from(render.weight_cutoff),
+                exposure: render.exposure.map(f64::from),
             },
         }
     }

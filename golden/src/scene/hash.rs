@@ -21,6 +21,12 @@ pub(super) fn render_hash(scene: &Scene) -> u64 {
     h.u32(c.height);
     h.vec(scene.light.position);
     h.vec(scene.light.color);
+    // The exposure changes the picture, not how it is computed. Only when
+    // on: scenes without it keep their hashes.
+    if let Some(e) = scene.render.exposure {
+        h.bytes(b"exposure");
+        h.f32(e);
+    }
     h.u32(scene.spheres.len() as u32);
     for s in &scene.spheres {
         h.vec(s.center);

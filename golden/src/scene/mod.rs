@@ -49,6 +49,7 @@
 //! recip = "exact"
 //! sqrt = "exact"
 //! weight_cutoff = 0.0  # spawn no reflected ray of weight < this (0 = off)
+//! # exposure = -1.0    # colour = 1 - e^(exposure * colour), in [-100, 0) (absent = off)
 //! ```
 //!
 //! Unknown keys are errors everywhere, and every error names the file and the
@@ -83,8 +84,8 @@ pub use error::SceneError;
 pub(crate) use types::dvec;
 pub use types::{
     Axis, Camera, Light, Material, Object, Plane, RenderSettings, Speedups, Sphere, Vec3f,
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
-    MIN_DISTANCE, MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS,
+    MAX_SPHERES, MIN_DISTANCE, MIN_RADIUS,
 };
 
 use file::RawScene;
@@ -191,8 +192,8 @@ impl Scene {
     }
 
     /// A stable 64-bit FNV-1a hash of what is rendered: the camera and the
-    /// image size, the light, the objects and their materials (the bits of
-    /// the f32s, the integers) in a fixed order, and not how it is computed
+    /// image size, the light, the exposure if any, the objects and their
+    /// materials (the bits of the f32s, the integers) in a fixed order, and not how it is computed
     /// (see [`Scene::config_hash`]). Equal pictures hash equal on every
     /// platform and in every version that keeps the encoding tag; trace
     /// files record it, and traces of different scenes are not compared.

@@ -13,6 +13,10 @@ pub const MAX_PLANES: usize = 6;
 /// Deepest ray stack the RTL can be built with: generations of open-air rays
 /// (1 = primary rays only, no reflections).
 pub const MAX_DEPTH: u32 = 8;
+/// Largest magnitude of `render.exposure`: at -100 every channel above 0.17
+/// is already 1 - e^-17, which is 1.0 in f32, so larger magnitudes only
+/// make the picture two-tone.
+pub const MAX_EXPOSURE: f32 = 100.0;
 /// Largest image width or height, in pixels (pixel coordinates are 12 bits).
 pub const MAX_IMAGE_SIDE: u32 = 4096;
 
@@ -190,6 +194,12 @@ pub struct RenderSettings {
     /// golden::reference compares in f64, golden::micro and the RTL in f32
     /// (the very product SH_CHILD_W writes): `weight < weight_cutoff`.
     pub weight_cutoff: f32,
+    /// The exposure function of thesis 3.7, `colour = 1 - e^(exposure *
+    /// colour)` per channel at the end of every pixel, which maps colours
+    /// over 1 into [0, 1) instead of letting the 8-bit conversion clip
+    /// them. `None` (the default) switches it off; else in
+    /// `[-MAX_EXPOSURE, 0)`. Part of the picture (the render hash).
+    pub exposure: Option<f32>,
 }
 
 impl RenderSettings {

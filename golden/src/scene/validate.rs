@@ -19,8 +19,8 @@ use super::error::SceneError;
 use super::file::{RawCamera, RawLight, RawPlane, RawRender, RawScene, RawSphere};
 use super::types::{
     dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_COORD,
-    MAX_DEPTH, MAX_DISTANCE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE,
-    MIN_RADIUS,
+    MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
+    MIN_DISTANCE, MIN_RADIUS,
 };
 use super::Scene;
 use glam::DVec3;
@@ -192,7 +192,26 @@ impl Check<'_> {
             recip: r.recip.into(),
             sqrt: r.sqrt.into(),
             weight_cutoff: self.weight_cutoff(r.weight_cutoff)?,
+            exposure: r.exposure.map(|x| self.exposure(x)).transpose()?,
         })
+    }
+
+    /// Thesis 3.7 puts the exposure in [-inf, 0]: refused are 0 and -0
+    /// (every pixel black: leave the key out for no exposure), positive
+    /// values (1 - e^(positive) is negative), NaN, infinities (-inf * 0 is
+    /// NaN on a black channel) and magnitudes above [`MAX_EXPOSURE`].
+    fn exposure(&self, x: f64) -> Result<f32, SceneError> {
+        let field = "render.exposure";
+        let e = self.num(field, x)?;
+        if !(-MAX_EXPOSURE..0.0).contains(&e) {
+            return Err(self.fail(
+                field,
+                format!(
+                    "must be in [-{MAX_EXPOSURE}, 0) (colour = 1 - e^(exposure * colour); leave it out for none), got {x}"
+                ),
+            ));
+        }
+        Ok(e)
     }
 
     /// A weight is a product of reflection values in [0, 1], so a cutoff
