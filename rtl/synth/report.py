@@ -1,8 +1,17 @@
 #!/usr/bin/env python3
-"""rtl/synth/levels.py -- the deepest register-to-register path of a mapped
-Xilinx netlist (docs/rtl.md, "Synthesis").
+"""rtl/synth/report.py -- the resources and the deepest register-to-register
+path of a mapped Xilinx netlist (docs/rtl.md, "Synthesis").
 
-    python3 rtl/synth/levels.py target/synth/xc6v-pp-exact/netlist.json
+    python3 rtl/synth/report.py target/synth/xc6v-pp-exact/netlist.json
+
+Resources as ISE counts them on Virtex-6 (the thesis' table): slice LUTs are
+the logic LUTs (LUT1..LUT6 and INV) plus the LUTs that LUT RAMs and shift
+registers occupy (RAM32M and RAM64M 4 each, RAM32X1D and RAM64X1D 2, ...);
+the INVs on rst_n are counted once (yosys leaves one per flip-flop with an
+asynchronous reset; a vendor mapper merges them, or folds them into the
+flip-flop's reset). Flip-flops are the FD* cells, DSPs the DSP48E1s, block
+RAMs the RAMB36E1s plus half the RAMB18E1s. Black boxes (the top's
+pixel_processor) are counted and named.
 
 The netlist is synth.sh's flattened `write_json` of `synth_xilinx`. This is
 yosys' `ltp -noff` with the storage elements cut where the hardware cuts
@@ -28,6 +37,8 @@ from collections import Counter, defaultdict
 
 # LUT RAMs and shift registers: (read address ports, read data ports, write
 # address ports). Every other input is the write port: a path ends there.
+LUTRAM_LUTS = {"RAM32M": 4, "RAM64M": 4, "RAM32X1D": 2, "RAM64X1D": 2, "RAM128X1D": 4,
+               "RAM32X1S": 1, "RAM64X1S": 1, "RAM128X1S": 2, "SRL16E": 1, "SRLC32E": 1}
 LUTRAM = {
     "RAM32M": (["ADDRA", "ADDRB", "ADDRC", "ADDRD"], ["DOA", "DOB", "DOC", "DOD"], ["ADDRD"]),
     "RAM64M": (["ADDRA", "ADDRB", "ADDRC", "ADDRD"], ["DOA", "DOB", "DOC", "DOD"], ["ADDRD"]),
@@ -44,6 +55,17 @@ LUTRAM = {
     "SRLC32E": (["A"], ["Q", "Q31"], []),
 }
 COMB_ALL = re.compile(r"^(LUT[1-6]|MUXF[5-8]|CARRY4|INV|BUF|MUXCY|XORCY)$")
+# Cell delays in ns, the slowest input of each: yosys' share/xilinx/cells_sim.v
+# specify blocks (prjxray's measured 7-series timings, speed grade -1; the
+# 7-series CLB is the Virtex-6 CLB, UG474). A net between two cells adds NET.
+CELL_NS = {"LUT1": 0.127, "LUT2": 0.238, "LUT3": 0.407, "LUT4": 0.472, "LUT5": 0.631,
+           "LUT6": 0.642, "INV": 0.127, "MUXF7": 0.296, "MUXF8": 0.273, "CARRY4": 0.642,
+           "RAM32M": 0.642, "RAM64M": 0.642, "RAM32X1D": 0.642 + 0.223 + 0.174,
+           "RAM64X1D": 0.642 + 0.223 + 0.174, "RAM128X1D": 0.642 + 0.296 + 0.174}
+CARRY_CHAIN_NS = 0.313  # CI -> O[3]: a CARRY4 fed by the one below, no net between
+DSP_MULT_NS, DSP_ADD_NS = 2.823, 1.523  # A -> P, with and without the multiplier
+TCKO_NS, TSETUP_NS = 0.303, 0.453  # FDRE C -> Q; the slowest setup (RAM DI)
+NETS_NS = (0.3, 0.8)  # net delay per hop: an assumed range, not a data-sheet figure
 DSP_IN_REG = {"A": "AREG", "ACIN": "AREG", "B": "BREG", "BCIN": "BREG", "C": "CREG",
               "D": "DREG", "OPMODE": "OPMODEREG", "ALUMODE": "ALUMODEREG",
               "CARRYIN": "CARRYINREG", "INMODE": "INMODEREG"}
@@ -84,6 +106,26 @@ def arcs(cell):
     return [], outs, ins
 
 
+def resources(top, cells, netname):
+    types = Counter(c["type"] for c in cells.values())
+    reset_inv = sum(1 for c in cells.values() if c["type"] == "INV"
+                    and netname.get(c["connections"]["I"][0]) == "rst_n")
+    logic = sum(n for t, n in types.items() if re.match(r"^LUT[1-6]$", t))
+    inv = types.get("INV", 0) - reset_inv + (1 if reset_inv else 0)
+    mem = sum(LUTRAM_LUTS[t] * n for t, n in types.items() if t in LUTRAM_LUTS)
+    ffs = sum(n for t, n in types.items() if re.match(r"^FD", t))
+    bram = types.get("RAMB36E1", 0) + types.get("RAMB18E1", 0) / 2
+    known = re.compile(r"^(LUT[1-6]|INV|FD\w*|RAMB\w*|DSP48E1|MUXF[78]|CARRY4|VCC|GND)$")
+    print(f"slice LUTs {logic + inv + mem} (logic {logic}, INV {inv}"
+          f" of which rst_n {1 if reset_inv else 0} for {reset_inv} in the netlist,"
+          f" memory {mem}), flip-flops {ffs}, DSP48E1 {types.get('DSP48E1', 0)},"
+          f" block RAM (36 Kb) {bram:g}; MUXF7 {types.get('MUXF7', 0)},"
+          f" MUXF8 {types.get('MUXF8', 0)}, CARRY4 {types.get('CARRY4', 0)}")
+    other = {t: n for t, n in types.items() if not known.match(t) and t not in LUTRAM_LUTS}
+    if other:
+        print("  other cells: " + ", ".join(f"{t} {n}" for t, n in sorted(other.items())))
+
+
 def main(path):
     with open(path) as f:
         design = json.load(f)
@@ -100,6 +142,8 @@ def main(path):
         for i, b in enumerate(nd["bits"]):
             if isinstance(b, int):
                 netname.setdefault(b, f"{n}[{i}]" if len(nd["bits"]) > 1 else n)
+
+    resources(top, cells, netname)
 
     # Graph over nodes: a node is (cell, out_port) producing bits; edges from
     # each driving cell to each reading cell along combinational arcs.
@@ -136,11 +180,20 @@ def main(path):
     sys.setrecursionlimit(1_000_000)
     best = {}  # (bit, key) -> (value, prev bit)
 
-    def weight(cn, key):
+    def weight(cn, key, from_cn=None):
         t = cells[cn]["type"]
         if key == "cells":
             return 1
-        return 1 if t.startswith("LUT") else 0
+        if key == "luts":
+            return 1 if t.startswith("LUT") else 0
+        if t == "DSP48E1":
+            mult = cells[cn].get("parameters", {}).get("USE_MULT", "MULTIPLY") != "NONE"
+            ns = DSP_MULT_NS if mult else DSP_ADD_NS
+        else:
+            ns = CELL_NS.get(t, 0.642)
+        if t == "CARRY4" and from_cn is not None and cells[from_cn]["type"] == "CARRY4":
+            return CARRY_CHAIN_NS
+        return ns + key  # key: the net delay per hop
 
     order = []
     state = {}
@@ -152,7 +205,7 @@ def main(path):
                 if state.get(b) == 2:
                     continue
                 if state.get(b) == 1:
-                    sys.exit(f"levels.py: combinational loop through net bit {b} "
+                    sys.exit(f"report.py: combinational loop through net bit {b} "
                              f"({netname.get(b, '?')})")
                 state[b] = 1
             fi = fanin.get(b, [])
@@ -165,19 +218,18 @@ def main(path):
                 state[b] = 2
                 order.append(b)
     results = {}
-    for key in ("cells", "luts"):
+    for key in ("cells", "luts") + NETS_NS:
         val = {}
         prev = {}
         for b in order:
-            w = weight(cell_of[b], key)
-            bv, bp = 0, None
+            bv, bp = None, None
             for nb in fanin[b]:
-                v = val.get(nb, 0) if nb in fanin else 0
                 if nb not in fanin and nb not in sources:
                     continue  # constant or undriven
-                if bp is None or v > bv:
+                v = (val[nb] if nb in fanin else 0) + weight(cell_of[b], key, cell_of.get(nb))
+                if bv is None or v > bv:
                     bv, bp = v, nb
-            val[b] = bv + w
+            val[b] = weight(cell_of[b], key) if bv is None else bv
             prev[b] = bp
         # Endpoints: bits read by a sink port (or a top-level output).
         ends = []
@@ -206,7 +258,9 @@ def main(path):
         d = driver.get(b)
         return d is not None and not d[0].startswith("<input")
 
-    for key, title in (("cells", "most cells (ltp's count)"), ("luts", "most LUT levels")):
+    titles = [("cells", "most cells (ltp's count)"), ("luts", "most LUT levels")]
+    titles += [(n, f"longest delay at {n} ns a net") for n in NETS_NS]
+    for key, title in titles:
         val, prev, ends, reg_ends = results[key]
         # register to register: the start must be a register too
         for v, b, endname, _ in reg_ends:
@@ -218,6 +272,10 @@ def main(path):
         print(f"register-to-register path with the {title}: {len(path)} cells, "
               f"{sum(n for t, n in types.items() if t.startswith('LUT'))} LUTs")
         print("  by type: " + ", ".join(f"{t} {n}" for t, n in sorted(types.items())))
+        if not isinstance(key, str):
+            ns = v + TCKO_NS + TSETUP_NS + key
+            print(f"  estimate: {v:.2f} ns of cells and nets + clock-to-out, last net and "
+                  f"setup = {ns:.2f} ns, {1000 / ns:.0f} MHz")
         print(f"  from {dcell} ({cells[dcell]['type'] if dcell in cells else 'port'}).{dport}"
               f" net {netname.get(start, start)}")
         ecell, eport = endname
@@ -236,5 +294,5 @@ def main(path):
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
-        sys.exit("usage: levels.py NETLIST.json (synth.sh's netlist.json)")
+        sys.exit("usage: report.py NETLIST.json (synth.sh's netlist.json)")
     main(sys.argv[1])
