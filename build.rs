@@ -20,7 +20,12 @@
 //! `Vpixel_processor_wave_<recip>_<sqrt>` (listed in
 //! `rtcosim_pp_wave_models.h`), for the waveform window of `harness::wave`,
 //! and compiled at -O0; Verilator's FST writer gets zlib and lz4 from the
-//! libz-sys and lz4-sys crates, built from source.
+//! libz-sys and lz4-sys crates, built from source. The top module
+//! (`rtl/top.v`, `-DPP_TRACE`) is verilated as `Vtop_<N>_<recip>_<sqrt>`
+//! for the variants of `TOP_VARIANTS` (N = 1 and 4, exact methods: what the
+//! tests and the README use) and those `RTCOSIM_TOPS` adds, listed in
+//! `rtcosim_top_models.h`; its N processors are inlined, so N = 4 costs
+//! about four pixel processors of g++ time.
 //!
 //! Cost (Verilator 5.006, g++ -O2, CPU seconds): each pixel processor
 //! variant about 3 s of Verilator and 17-18 s of g++, 70 s of g++ for the
@@ -50,6 +55,52 @@ struct Model<'a> {
     trace: bool,
 }
 
+/// The top variants every build verilates, (N, recip, sqrt): the ones the
+/// tests and the README use. [`TOPS`] adds others on demand.
+const TOP_VARIANTS: &[(u32, &str, &str)] = &[(1, "exact", "exact"), (4, "exact", "exact")];
+
+/// More top variants: a comma-separated list of `N` (exact methods) or
+/// `N:recip:sqrt`, e.g. `RTCOSIM_TOPS=2,8,4:fast:fast`.
+const TOPS: &str = "RTCOSIM_TOPS";
+
+/// [`TOP_VARIANTS`] and what [`TOPS`] asks for, each once.
+fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<(u32, String, String)>, String> {
+    let mut wanted: Vec<(u32, String, String)> = TOP_VARIANTS
+        .iter()
+        .map(|&(n, r, s)| (n, r.to_string(), s.to_string()))
+        .collect();
+    let asked = env::var(TOPS).unwrap_or_default();
+    for item in asked.split(',').map(str::trim).filter(|i| !i.is_empty()) {
+        let parts: Vec<&str> = item.split(':').collect();
+        let bad =
+            || {
+                format!(
+                "{TOPS}={asked}: `{item}` is not N or N:recip:sqrt with N in 1..=8 and methods \
+                 among {}",
+                methods.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
+            )
+            };
+        let n: u32 = parts[0]
+            .parse()
+            .ok()
+            .filter(|n| (1..=8).contains(n))
+            .ok_or_else(bad)?;
+        let (recip, sqrt) = match parts[1..] {
+            [] => ("exact", "exact"),
+            [r, s] => (r, s),
+            _ => return Err(bad()),
+        };
+        if !methods.iter().any(|(m, _)| m == recip) || !methods.iter().any(|(m, _)| m == sqrt) {
+            return Err(bad());
+        }
+        let v = (n, recip.to_string(), sqrt.to_string());
+        if !wanted.contains(&v) {
+            wanted.push(v);
+        }
+    }
+    Ok(wanted)
+}
+
 /// The pixel processor variants verilated with `--trace-fst` for
 /// `harness::wave` are `<WAVE_PREFIX>_<recip>_<sqrt>`.
 const WAVE_PREFIX: &str = "Vpixel_processor_wave";
@@ -75,6 +126,7 @@ impl Verilator {
 
 fn main() {
     println!("cargo:rerun-if-changed=rtl");
+    println!("cargo:rerun-if-env-changed={TOPS}");
     println!("cargo:rerun-if-changed=harness/cpp");
     println!("cargo:rerun-if-changed=harness/bridge.rs");
     println!("cargo:rerun-if-env-changed=VERILATOR_ROOT");
@@ -114,6 +166,9 @@ fn run() -> Result<(), String> {
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let fp_sources = verilog_sources(&[&fp_dir])?;
     let pp_sources = verilog_sources(&[&pp_dir, &fp_dir])?;
+    let top_sources: Vec<PathBuf> = std::iter::once(manifest.join("rtl/top.v"))
+        .chain(pp_sources.iter().cloned())
+        .collect();
     let unit = |top: &'static str, prefix: String, params| Model {
         prefix,
         top,
@@ -177,6 +232,49 @@ fn run() -> Result<(), String> {
         &out.join("rtcosim_pp_wave_models.h"),
         "RTCOSIM_PP_WAVE_MODELS",
         &wave_variants,
+    )?;
+    // The top (rtl/top.v) with its trace ports, for the N and method pairs
+    // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
+    let mut top_variants = Vec::new();
+    for (procs, recip, sqrt) in top_variants_wanted(&methods)? {
+        let code = |name: &str| methods.iter().find(|(n, _)| n == name).map(|(_, c)| *c);
+        let (Some(recip_code), Some(sqrt_code)) = (code(&recip), code(&sqrt)) else {
+            continue;
+        };
+        top_variants.push((
+            procs,
+            format!("Vtop_{procs}_{recip}_{sqrt}"),
+            recip_code,
+            sqrt_code,
+        ));
+    }
+    let mut top_models: Vec<Model> = top_variants
+        .iter()
+        .map(|(procs, prefix, recip, sqrt)| Model {
+            prefix: prefix.clone(),
+            top: "top",
+            params: vec![
+                ("N", *procs),
+                ("RECIP_METHOD", *recip),
+                ("SQRT_METHOD", *sqrt),
+            ],
+            defines: vec!["PP_TRACE"],
+            includes: vec![pp_dir.clone(), fp_dir.clone()],
+            sources: &top_sources,
+            trace: false,
+        })
+        .collect();
+    models.append(&mut top_models);
+    write_models(
+        &out.join("rtcosim_top_models.h"),
+        "the verilated top variants: X(class, N, recip code, sqrt code)",
+        "RTCOSIM_TOP_MODELS",
+        &top_variants
+            .iter()
+            .map(|(procs, prefix, recip, sqrt)| {
+                (prefix.clone(), format!("{procs}, {recip}, {sqrt}"))
+            })
+            .collect::<Vec<_>>(),
     )?;
 
     let results: Vec<Result<Vec<PathBuf>, String>> = std::thread::scope(|s| {
@@ -250,6 +348,7 @@ fn run() -> Result<(), String> {
     bridge
         .file("harness/cpp/fp_units.cpp")
         .file("harness/cpp/pixel_proc.cpp")
+        .file("harness/cpp/top.cpp")
         .compile("rtcosim_bridge");
 
     // The waveform models: one pixel per run, so -O0, which compiles the
@@ -628,15 +727,33 @@ fn write_pp_models(
     macro_name: &str,
     variants: &[(String, u32, u32)],
 ) -> Result<(), String> {
-    let mut text = String::from(
-        "// Generated by build.rs: the verilated pixel processor variants.\n#pragma once\n",
-    );
-    for (prefix, _, _) in variants {
+    let variants: Vec<(String, String)> = variants
+        .iter()
+        .map(|(prefix, recip, sqrt)| (prefix.clone(), format!("{recip}, {sqrt}")))
+        .collect();
+    write_models(
+        path,
+        "the verilated pixel processor variants",
+        macro_name,
+        &variants,
+    )
+}
+
+/// A header listing verilated models (what), as `macro_name(X)` calling
+/// `X(class, args)` for each `(class, args)` of `variants`.
+fn write_models(
+    path: &Path,
+    what: &str,
+    macro_name: &str,
+    variants: &[(String, String)],
+) -> Result<(), String> {
+    let mut text = format!("// Generated by build.rs: {what}.\n#pragma once\n");
+    for (prefix, _) in variants {
         text += &format!("#include \"{prefix}.h\"\n");
     }
     text += &format!("#define {macro_name}(X)");
-    for (prefix, recip, sqrt) in variants {
-        text += &format!(" \\\n    X({prefix}, {recip}, {sqrt})");
+    for (prefix, args) in variants {
+        text += &format!(" \\\n    X({prefix}, {args})");
     }
     text += "\n";
     // Rewriting an unchanged header would recompile the bridge for nothing.

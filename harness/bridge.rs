@@ -1,8 +1,8 @@
 //! The cxx bridge to the verilated models (C++ side in `harness/cpp/`).
 //!
 //! The C++ side runs the clock loop over whole batches of operands (float
-//! units) or a whole pixel (the pixel processor), so one FFI call covers
-//! thousands of evaluations. Every model has its own
+//! units), a whole pixel (the pixel processor), or a batch of results and
+//! trace events (the top), so one FFI call covers thousands of evaluations. Every model has its own
 //! `VerilatedContext`; the handles are `!Send` (cxx opaque types), which keeps
 //! each model on the thread that built it, as Verilator requires.
 
@@ -59,6 +59,68 @@ pub(crate) mod ffi {
         last_state: u16,
         last_state_cycle: u64,
         /// trace_state in the last cycle sampled.
+        state_port: u16,
+    }
+
+    /// A trace event of the top: the processor that made it, the pixel
+    /// that processor was given, that pixel's number among the processor's
+    /// pixels since reset (from 0), and the event as its trace port shows it.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    struct TopEvent {
+        proc: u8,
+        x: u16,
+        y: u16,
+        pixel: u32,
+        event: PpEvent,
+    }
+
+    /// A result off the top's result stream.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    struct TopResult {
+        proc: u8,
+        x: u16,
+        y: u16,
+        rgb: [u32; 3],
+        /// The pixel's own cycle count (out_cycles).
+        cycles: u32,
+        /// The events buffered (in the same run's vector) before this
+        /// result left: every event of this pixel is among them.
+        events_before: u64,
+    }
+
+    /// Why a batch of the top's clock loop ended.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    enum TopStatus {
+        /// Every result of the frame is out.
+        Drained,
+        /// The result or event limit was reached.
+        Batch,
+        /// The cycle limit was reached.
+        CycleLimit,
+        /// A processor spent more than the timeout on one pixel.
+        Watchdog,
+        /// No coordinate went in and no result came out for the timeout.
+        Stalled,
+    }
+
+    /// One batch of the top's clock loop.
+    #[derive(Debug, Clone, Copy)]
+    struct TopRun {
+        status: TopStatus,
+        /// Cycles run in this batch (Watchdog: the processor's cycles on
+        /// the pixel; Stalled: the cycles without a handshake).
+        cycles: u64,
+        /// Drained: cycles from the one taking the first coordinate (or
+        /// starting the raster) to the one taking the last result, both in.
+        frame_cycles: u64,
+        /// Watchdog: the processor (0xFF otherwise), its pixel, the state
+        /// of its last trace event and that event's cycle, its trace_state.
+        proc: u8,
+        x: u16,
+        y: u16,
+        has_last_state: bool,
+        last_state: u16,
+        last_state_cycle: u64,
         state_port: u16,
     }
 
@@ -149,5 +211,61 @@ pub(crate) mod ffi {
         /// Appends the cycle of each trace event of the last pixel (on a
         /// `new_pixel_proc_wave` model; nothing on the others).
         fn event_cycles(self: &PixelProc, out: &mut Vec<u64>);
+    }
+
+    unsafe extern "C++" {
+        include!("top.h");
+
+        /// The verilated top module (rtl/top.v, trace and fault ports in).
+        type TopSim;
+
+        /// Builds and resets the top verilated with `procs` processors and
+        /// these method codes; fails if that variant was not built.
+        fn new_top(procs: u32, recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<TopSim>>;
+
+        /// Holds rst_n low for two clock edges, releases it for one; fails
+        /// unless scene_ready is then high. Forgets any frame.
+        fn reset(self: Pin<&mut TopSim>) -> Result<()>;
+
+        /// One broadcast scene-port write; fails while a frame is in flight
+        /// or scene_ready is low.
+        fn write_scene(
+            self: Pin<&mut TopSim>,
+            cfg: bool,
+            addr: u8,
+            x: u32,
+            y: u32,
+            z: u32,
+        ) -> Result<()>;
+
+        /// Drives fault_state, fault_xor and fault_procs from now on.
+        fn set_fault(self: Pin<&mut TopSim>, state: u16, xor_mask: u32, procs_mask: u32);
+
+        /// out_ready low in `stall_percent` % of the cycles (seeded).
+        fn set_backpressure(self: Pin<&mut TopSim>, seed: u64, stall_percent: u32);
+
+        /// Cycles a processor may spend on a pixel before a Watchdog status
+        /// (and twice that, plus 16, the top without a handshake before a
+        /// Stalled one).
+        fn set_timeout(self: Pin<&mut TopSim>, cycles: u64);
+
+        /// A frame from the coordinate stream: `x | y << 16` each, in order.
+        fn feed(self: Pin<&mut TopSim>, coords: &[u32]) -> Result<()>;
+
+        /// A frame from the raster generator over an inclusive window.
+        fn start_raster(self: Pin<&mut TopSim>, x0: u16, y0: u16, x1: u16, y1: u16) -> Result<()>;
+
+        /// Clocks until the frame drains, `max_results` results or
+        /// `max_events` events are buffered, `max_cycles` cycles ran, or a
+        /// watchdog trips; appends to `results` and `events`. Fails on a
+        /// fatal error inside the model.
+        fn run(
+            self: Pin<&mut TopSim>,
+            results: &mut Vec<TopResult>,
+            events: &mut Vec<TopEvent>,
+            max_results: u64,
+            max_events: u64,
+            max_cycles: u64,
+        ) -> Result<TopRun>;
     }
 }

@@ -11,9 +11,18 @@
 //! worker (built lazily) sharing one golden [`Processor`] (immutable). The
 //! per-row reports merge exactly (see [`CompareReport::merge`]), so the report
 //! is the same whatever the number of threads.
+//!
+//! [`run_top`] is the second driver under the same engine: the window is
+//! cut into tiles of [`TILE_ROWS`] rows (whatever the thread count), each
+//! tile streamed through a [`Top`] of N processors (one per worker, reset
+//! and loaded for every tile, so a tile's cycles do not depend on which
+//! worker ran what before), and each pixel compared with golden as its
+//! result leaves the top. The comparison is the same report as [`run`]'s for
+//! any N and any thread count; [`TopReport`] adds what the top cost.
 
 use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
+use crate::top::{FrameStats, Source, Top};
 use golden::fp::Method;
 use golden::frame::Frame;
 use golden::micro::isa::state_label;
@@ -59,6 +68,34 @@ pub struct CosimReport {
     /// Both sides' colours of the window, when [`CosimOptions::keep_frames`]
     /// asked for them.
     pub frames: Option<Frames>,
+    /// What the top cost, when the run went through it ([`run_top`]).
+    pub top: Option<TopReport>,
+}
+
+/// How to drive the top in [`run_top`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TopOptions {
+    /// Pixel processors (a verilated variant of rtl/top.v).
+    pub procs: u32,
+    /// `out_ready` low in this share of cycles (percent, seeded per tile).
+    pub stall_percent: u32,
+}
+
+/// What the top cost over a window: its tiles run back to back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TopReport {
+    pub procs: u32,
+    pub tiles: u64,
+    /// The tiles' costs added up: frame cycles are the sum of each tile's
+    /// first coordinate in to last result out.
+    pub stats: FrameStats,
+}
+
+impl TopReport {
+    /// The share of processor cycles without a pixel.
+    pub fn idle_share(&self) -> f64 {
+        self.stats.idle_share(self.procs)
+    }
 }
 
 /// One pixel's colour bits: the RTL's and golden's.
@@ -118,6 +155,21 @@ impl fmt::Display for CosimReport {
             )?;
         }
         writeln!(f, ": {} pixels", self.compare.counts.pixels)?;
+        if let Some(t) = &self.top {
+            writeln!(
+                f,
+                "  top: {} processor{}, {} tile{}: {} frame cycles (first coordinate in to last \
+                 result out), {:.1}% dispatcher idle (processor cycles without a pixel), {} \
+                 batches",
+                t.procs,
+                if t.procs == 1 { "" } else { "s" },
+                t.tiles,
+                if t.tiles == 1 { "" } else { "s" },
+                t.stats.frame_cycles,
+                100.0 * t.idle_share(),
+                t.stats.batches
+            )?;
+        }
         write!(f, "{}", self.compare)?;
         if let Some(d) = &self.compare.first_divergence {
             write!(f, "\nfirst divergence: {}", d.text(&self.compare.labels))?;
@@ -236,7 +288,162 @@ fn report(
         frames: options
             .keep_frames
             .then(|| Frames::from_rows(window, colours)),
+        top: None,
     }
+}
+
+/// Runs `work` on every unit in parallel on the current rayon pool, each
+/// worker thread with its own worker from `make` (built lazily, dropped
+/// after an error: a model that failed mid-pixel is not used again);
+/// `progress` gets the pixels of each unit done. After an error, units not
+/// yet started are skipped; the error returned is the first in unit order
+/// among those that ran, so the outcome does not depend on the threads.
+fn par_units<U, W, T>(
+    units: &[U],
+    make: impl Fn() -> Result<W, PpError> + Sync + Send,
+    work: impl Fn(&mut W, &U) -> Result<(T, u64), PpError> + Sync + Send,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<T>, PpError>
+where
+    U: Sync,
+    T: Send,
+{
+    let failed = AtomicBool::new(false);
+    let done: Vec<Result<Option<T>, PpError>> = units
+        .par_iter()
+        .map_init(
+            || None::<W>,
+            |worker, unit| {
+                if failed.load(Ordering::Relaxed) {
+                    return Ok(None);
+                }
+                let w = match worker {
+                    Some(w) => w,
+                    None => match make() {
+                        Ok(w) => worker.insert(w),
+                        Err(e) => {
+                            failed.store(true, Ordering::Relaxed);
+                            return Err(e);
+                        }
+                    },
+                };
+                match work(w, unit) {
+                    Ok((t, pixels)) => {
+                        progress(pixels);
+                        Ok(Some(t))
+                    }
+                    Err(e) => {
+                        failed.store(true, Ordering::Relaxed);
+                        *worker = None;
+                        Err(e)
+                    }
+                }
+            },
+        )
+        .collect();
+    let mut out = Vec::with_capacity(done.len());
+    let mut skipped = false;
+    for d in done {
+        match d? {
+            Some(t) => out.push(t),
+            None => skipped = true,
+        }
+    }
+    // Skipped units mean an error elsewhere, returned above.
+    debug_assert!(!skipped);
+    Ok(out)
+}
+
+/// Rows of the window in a tile of [`run_top`]: a tile is this many rows
+/// (fewer at the bottom) of the window's full width.
+pub const TILE_ROWS: u32 = 4;
+
+/// The tiles of `window`: bands of [`TILE_ROWS`] rows, top to bottom.
+fn tiles(window: Window) -> Vec<Window> {
+    window
+        .rows()
+        .step_by(TILE_ROWS as usize)
+        .map(|y| {
+            let rows = TILE_ROWS.min(window.y + window.height - y);
+            Window::new(window.x, y, window.width, rows)
+        })
+        .collect()
+}
+
+/// Co-simulates `window` of `scene` through the top module with
+/// `top.procs` processors (the variant with the scene's methods) against
+/// [`golden::micro`]: tiles in parallel on the current rayon pool, each
+/// tile's coordinates streamed into the top, each pixel compared as its
+/// result comes out. `progress` is called with the pixels of each tile
+/// done. The comparison is [`run`]'s, pixel for pixel; a hung processor
+/// (or any model error) stops the run and is returned, the first in tile
+/// order among the tiles that ran.
+pub fn run_top(
+    scene: &Scene,
+    window: Window,
+    options: &CosimOptions,
+    top: &TopOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<CosimReport, CosimError> {
+    window.check_inside(scene.camera.width, scene.camera.height)?;
+    let golden = Processor::new(scene);
+    let all_procs = u32::MAX;
+    let make = || {
+        let mut t = Top::new(top.procs, scene.render.recip, scene.render.sqrt)?;
+        t.set_timeout_cycles(options.timeout_cycles);
+        t.set_fault(options.fault, all_procs);
+        Ok(t)
+    };
+    type Tile = (CompareReport, Vec<Colours>, FrameStats);
+    let tiles = tiles(window);
+    let done: Vec<Tile> = par_units(
+        &tiles,
+        make,
+        |t: &mut Top, tile: &Window| {
+            // Reset and load per tile: the tile's cycles are its own.
+            t.load_scene(scene)?;
+            t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
+            let coords: Vec<(u32, u32)> = tile.iter().collect();
+            let mut report = CompareReport::new(Labels::rtl_golden());
+            let mut colours = Vec::new();
+            let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
+                let v = compare_pixel(
+                    p.x,
+                    p.y,
+                    Tolerance::default(),
+                    p.events,
+                    p.outcome,
+                    |sink| {
+                        let result = golden.render_pixel(p.x, p.y, |e, at| sink(e, Some(at)));
+                        PixelOutcome::from(&result)
+                    },
+                );
+                report.add(&v);
+                if options.keep_frames {
+                    colours.push(((p.y, p.x), (v.a.rgb, v.b.rgb)));
+                }
+            })?;
+            colours.sort_by_key(|&(at, _)| at);
+            let colours = colours.into_iter().map(|(_, c)| c).collect();
+            Ok(((report, colours, stats), tile.pixels()))
+        },
+        progress,
+    )?;
+    let mut compare = CompareReport::new(Labels::rtl_golden());
+    let mut colours = Vec::new();
+    let mut stats = FrameStats::default();
+    for (report, tile_colours, tile_stats) in done {
+        compare.merge(report);
+        colours.push(tile_colours);
+        stats.add(&tile_stats);
+    }
+    let mut r = report(scene, window, options, compare, colours);
+    r.top = Some(TopReport {
+        procs: top.procs,
+        tiles: tiles.len() as u64,
+        stats,
+    });
+    Ok(r)
 }
 
 /// Co-simulates `window` of `scene` (the RTL variant with the scene's
@@ -252,49 +459,27 @@ pub fn run(
 ) -> Result<CosimReport, CosimError> {
     window.check_inside(scene.camera.width, scene.camera.height)?;
     let golden = Processor::new(scene);
-    let empty = || CompareReport::new(Labels::rtl_golden());
-    let failed = AtomicBool::new(false);
-    type Row = (CompareReport, Vec<Colours>);
-    let rows: Vec<Result<Row, PpError>> = window
-        .rows()
-        .into_par_iter()
-        .map_init(
-            || None::<Worker>,
-            |worker, y| {
-                let mut report = empty();
-                let mut colours = Vec::new();
-                if failed.load(Ordering::Relaxed) {
-                    return Ok((report, colours));
+    let rows: Vec<u32> = window.rows().collect();
+    let done = par_units(
+        &rows,
+        || Worker::new(scene, options),
+        |w: &mut Worker, &y| {
+            let mut report = CompareReport::new(Labels::rtl_golden());
+            let mut colours = Vec::new();
+            for x in window.columns() {
+                let v = compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?;
+                report.add(&v);
+                if options.keep_frames {
+                    colours.push((v.a.rgb, v.b.rgb));
                 }
-                let row = (|| {
-                    let w = match worker {
-                        Some(w) => w,
-                        None => worker.insert(Worker::new(scene, options)?),
-                    };
-                    for x in window.columns() {
-                        let v = compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?;
-                        report.add(&v);
-                        if options.keep_frames {
-                            colours.push((v.a.rgb, v.b.rgb));
-                        }
-                    }
-                    Ok(())
-                })();
-                if let Err(e) = row {
-                    failed.store(true, Ordering::Relaxed);
-                    // A model that failed mid-pixel is not used again.
-                    *worker = None;
-                    return Err(e);
-                }
-                progress(u64::from(window.width));
-                Ok((report, colours))
-            },
-        )
-        .collect();
-    let mut compare = empty();
+            }
+            Ok(((report, colours), u64::from(window.width)))
+        },
+        progress,
+    )?;
+    let mut compare = CompareReport::new(Labels::rtl_golden());
     let mut colours = Vec::new();
-    for row in rows {
-        let (report, row_colours) = row?;
+    for (report, row_colours) in done {
         compare.merge(report);
         colours.push(row_colours);
     }
@@ -322,35 +507,22 @@ pub fn run_pixels(
         });
     }
     let golden = Processor::new(scene);
-    let empty = || CompareReport::new(Labels::rtl_golden());
-    let chunks: Vec<Result<CompareReport, PpError>> = pixels
-        .par_chunks(PIXEL_CHUNK)
-        .map_init(
-            || None::<Worker>,
-            |worker, chunk| {
-                let mut report = empty();
-                let w = match worker {
-                    Some(w) => w,
-                    None => worker.insert(Worker::new(scene, options)?),
-                };
-                for &(x, y) in chunk {
-                    match compare_one(&mut w.rtl, &mut w.events, &golden, x, y) {
-                        Ok(v) => report.add(&v),
-                        Err(e) => {
-                            // A model that failed mid-pixel is not used again.
-                            *worker = None;
-                            return Err(e);
-                        }
-                    }
-                }
-                progress(chunk.len() as u64);
-                Ok(report)
-            },
-        )
-        .collect();
-    let mut compare = empty();
-    for chunk in chunks {
-        compare.merge(chunk?);
+    let chunks: Vec<&[(u32, u32)]> = pixels.chunks(PIXEL_CHUNK).collect();
+    let done = par_units(
+        &chunks,
+        || Worker::new(scene, options),
+        |w: &mut Worker, chunk| {
+            let mut report = CompareReport::new(Labels::rtl_golden());
+            for &(x, y) in *chunk {
+                report.add(&compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?);
+            }
+            Ok((report, chunk.len() as u64))
+        },
+        progress,
+    )?;
+    let mut compare = CompareReport::new(Labels::rtl_golden());
+    for report in done {
+        compare.merge(report);
     }
     Ok(compare)
 }

@@ -7,10 +7,12 @@
 //!   reports every disagreement, measured in ULPs.
 //! - [`pixel_proc`]: the verilated pixel processor, one pixel per call, with
 //!   its trace and fault-injection ports.
+//! - [`top`]: the verilated top module (rtl/top.v), N pixel processors fed a
+//!   coordinate stream, driven in batches of results and trace events.
 //! - [`compare`]: the comparison engine: two event streams and two pixel
 //!   outcomes per pixel, whatever produced them; verdicts and reports.
-//! - [`cosim`]: the live run of the pixel processor against the golden
-//!   micro-op model, event by event, cycle for cycle, streaming.
+//! - [`cosim`]: the live run of the pixel processor (or the top) against the
+//!   golden micro-op model, event by event, cycle for cycle, streaming.
 //! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
@@ -40,6 +42,7 @@ pub mod rtl_source;
 pub mod scenes;
 pub mod shard;
 pub mod sweep;
+pub mod top;
 pub mod trace_diff;
 pub mod trace_files;
 pub mod wave;

@@ -82,8 +82,12 @@ pub enum PpError {
     },
     /// The RTL did not finish a pixel.
     #[error(
-        "hung RTL at pixel ({x}, {y}): {} after {cycles} cycles; last state seen: {}; \
+        "hung RTL at pixel ({x}, {y}){}: {} after {cycles} cycles; last state seen: {}; \
          trace_state in the last cycle: {}",
+        match processor {
+            Some(p) => format!(" on {p}"),
+            None => String::new(),
+        },
         match kind {
             HangKind::Timeout => "no done",
             HangKind::IdleWithoutDone => "the controller went back to IDLE without done",
@@ -97,6 +101,9 @@ pub enum PpError {
     Hung {
         x: u32,
         y: u32,
+        /// The processor of the top that hung (`None`: the bare pixel
+        /// processor).
+        processor: Option<ProcessorId>,
         kind: HangKind,
         /// Cycles simulated after the start edge.
         cycles: u64,
@@ -120,6 +127,52 @@ pub enum PpError {
         "an earlier error left the pixel processor in an unknown state; reset it and load the scene again"
     )]
     Poisoned,
+}
+
+/// One of the top's pixel processors: processor `index` of `procs`, the
+/// instance `top.g_pp[index].u_pp` of rtl/top.v.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ProcessorId {
+    pub index: u32,
+    pub procs: u32,
+}
+
+impl std::fmt::Display for ProcessorId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "processor {} of {} (top.g_pp[{}].u_pp)",
+            self.index, self.procs, self.index
+        )
+    }
+}
+
+/// Refuses `scene` unless it uses the float methods a model was verilated
+/// with.
+pub(crate) fn check_methods(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
+    let r = &scene.render;
+    if (r.recip, r.sqrt) != (recip, sqrt) {
+        return Err(PpError::MethodMismatch {
+            scene_recip: r.recip,
+            scene_sqrt: r.sqrt,
+            recip,
+            sqrt,
+        });
+    }
+    Ok(())
+}
+
+/// The scene-port writes that load `scene`, in order: `(cfg, addr, lanes)`
+/// for every scene register ([`loader::scene_writes`], `cfg` false), then
+/// the configuration word (`cfg` true). The pixel processor and the top
+/// load a scene the same way.
+pub(crate) fn scene_port_writes(scene: &Scene) -> Vec<(bool, u8, [u32; 3])> {
+    let mut writes: Vec<_> = loader::scene_writes(scene)
+        .into_iter()
+        .map(|(addr, lanes)| (false, addr, lanes))
+        .collect();
+    writes.push((true, 0, Config::new(scene).word()));
+    writes
 }
 
 /// Cycles a pixel may take before it counts as hung. The slowest pixel of
@@ -221,32 +274,18 @@ impl PixelProcessor {
     /// Resets the model and loads `scene` through the scene port. Refuses a
     /// scene whose recip/sqrt methods are not the model's.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
-        let r = &scene.render;
-        if (r.recip, r.sqrt) != (self.recip, self.sqrt) {
-            return Err(PpError::MethodMismatch {
-                scene_recip: r.recip,
-                scene_sqrt: r.sqrt,
-                recip: self.recip,
-                sqrt: self.sqrt,
-            });
-        }
+        check_methods(scene, self.recip, self.sqrt)?;
         self.reset()?;
         self.poisoned = true;
-        let fail = |e: cxx::Exception| PpError::Model {
-            pixel: None,
-            message: e.what().to_string(),
-        };
-        for (addr, [x, y, z]) in loader::scene_writes(scene) {
+        for (cfg, addr, [x, y, z]) in scene_port_writes(scene) {
             self.inner
                 .pin_mut()
-                .write_scene(false, addr, x, y, z)
-                .map_err(fail)?;
+                .write_scene(cfg, addr, x, y, z)
+                .map_err(|e| PpError::Model {
+                    pixel: None,
+                    message: e.what().to_string(),
+                })?;
         }
-        let [x, y, z] = Config::new(scene).word();
-        self.inner
-            .pin_mut()
-            .write_scene(true, 0, x, y, z)
-            .map_err(fail)?;
         self.poisoned = false;
         self.scene = Some(Loaded {
             width: scene.camera.width,
@@ -310,6 +349,7 @@ impl PixelProcessor {
         let hung = |kind| PpError::Hung {
             x: px,
             y: py,
+            processor: None,
             kind,
             cycles: run.edges,
             last_state: run

@@ -362,3 +362,66 @@ fn colours_over_1_are_warned_about_unless_the_scene_sets_an_exposure() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--procs 4`: the same report through the top, with its frame cycles and
+/// dispatcher idle share; the fault self-test fails through it; a watchdog
+/// names the processor.
+#[test]
+fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
+    let out = rtcosim(&[
+        "cosim", "--size", "40x30", "--window", "0,0,39,7", "--procs", "4",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("through the top with 4 processors"),
+        "{stdout}"
+    );
+    assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0, "{stdout}");
+    let frame = number_in(&stdout, "top: 4 processors,", " frame cycles");
+    let rtl_cycles = number_in(&stdout, "cycles: RTL", ", golden");
+    // Four processors: between a quarter of the pixels' cycles and half.
+    assert!(
+        frame * 4 >= rtl_cycles && frame * 2 < rtl_cycles,
+        "{stdout}"
+    );
+    assert!(stdout.contains("% dispatcher idle"), "{stdout}");
+
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "0,0,39,3",
+        "--procs",
+        "4",
+        "--fault",
+        "PRI_HALF:0x400",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    assert!(
+        text(&out.stdout).contains("first divergence: pixel (0, 0)"),
+        "{}",
+        both(&out)
+    );
+
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--procs",
+        "4",
+        "--timeout-cycles",
+        "20",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", both(&out));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("on processor 0 of 4 (top.g_pp[0].u_pp)"),
+        "{stderr}"
+    );
+
+    let out = rtcosim(&["cosim", "--size", "40x30", "--procs", "3"]);
+    assert_eq!(out.status.code(), Some(2), "{}", both(&out));
+    assert!(text(&out.stderr).contains("3 processors"), "{}", both(&out));
+}

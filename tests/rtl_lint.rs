@@ -1,5 +1,5 @@
 //! `verilator --lint-only -Wall` is clean on every top module of rtl/, with
-//! every METHOD and with and without the trace port, using the Verilator the
+//! every METHOD (and every N of the top) and with and without the trace port, using the Verilator the
 //! models were built with. Every file of rtl/fp and rtl/pp is read each time,
 //! as a reviewer would lint the tree.
 
@@ -101,6 +101,16 @@ fn the_pixel_processor_lints_clean_with_and_without_its_trace_port() {
             lint(Some("pixel_processor"), &[&recip, &sqrt]);
             lint(Some("pixel_processor"), &[&recip, &sqrt, "-DPP_TRACE"]);
         }
+    }
+}
+
+#[test]
+fn the_top_lints_clean_for_every_n_with_and_without_its_trace_ports() {
+    // 3: N need not be a power of two.
+    for n in [1, 2, 3, 4, 8] {
+        let n = format!("-GN={n}");
+        lint(Some("top"), &[&n]);
+        lint(Some("top"), &[&n, "-DPP_TRACE"]);
     }
 }
 

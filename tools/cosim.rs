@@ -1,4 +1,5 @@
-//! `rtcosim cosim`: the verilated pixel processor against golden::micro.
+//! `rtcosim cosim`: the verilated pixel processor (or the top with N of
+//! them, `--procs`) against golden::micro.
 
 use crate::args::{
     check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs,
@@ -8,7 +9,7 @@ use anyhow::{Context, Result};
 use golden::micro::isa::state_label;
 use golden::window::Window;
 use rtcosim::artefacts;
-use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
+use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use std::io::Write;
 use std::path::PathBuf;
@@ -25,6 +26,19 @@ pub struct CosimArgs {
     pub window: Option<Window>,
     #[command(flatten)]
     pub threads: ThreadsArgs,
+    /// Drive the top module (rtl/top.v) with N pixel processors instead of
+    /// one bare pixel processor per thread: tiles of the window are streamed
+    /// through one top per thread, and the report adds the top's frame
+    /// cycles and its dispatcher's idle share. N = 1 and 4 with the exact
+    /// methods are always built; others with RTCOSIM_TOPS=N[:recip:sqrt],...
+    /// set for the build (e.g. RTCOSIM_TOPS=2,8).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub procs: Option<u32>,
+    /// With --procs: hold the top's result stream back (out_ready low) in
+    /// this percentage of the cycles, drawn from a seeded generator.
+    #[arg(long, value_name = "PERCENT", default_value_t = 0, requires = "procs",
+          value_parser = clap::value_parser!(u32).range(0..=99))]
+    pub stall: u32,
     /// Cycles a pixel may take before the RTL counts as hung: the run stops
     /// with an error naming the pixel and the last state.
     #[arg(
@@ -87,7 +101,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     writeln!(
         out,
         "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), window {window} \
-         ({} pixel{}), recip {}, sqrt {}, {threads} thread{}, {}",
+         ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
         args.scene.scene,
         scene.render.max_depth,
         scene.render_hash(),
@@ -96,6 +110,15 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         scene.render.recip,
         scene.render.sqrt,
         plural(threads as u64),
+        args.procs.map_or(String::new(), |n| format!(
+            ", through the top with {n} processor{}{}",
+            plural(u64::from(n)),
+            if args.stall > 0 {
+                format!(" (result stream held back {}% of cycles)", args.stall)
+            } else {
+                String::new()
+            }
+        )),
         rtcosim::VERILATOR_VERSION
     )?;
     if let Some(fault) = args.fault {
@@ -121,7 +144,16 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         "{percent:>3}% {pos}/{len} pixels ({per_sec}, {eta})",
     )?;
     let start = Instant::now();
-    let result = pool.install(|| cosim::run(&scene, window, &options, &|n| bar.inc(n)));
+    let result = pool.install(|| match args.procs {
+        Some(procs) => {
+            let top = TopOptions {
+                procs,
+                stall_percent: args.stall,
+            };
+            cosim::run_top(&scene, window, &options, &top, &|n| bar.inc(n))
+        }
+        None => cosim::run(&scene, window, &options, &|n| bar.inc(n)),
+    });
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let report = result.map_err(|e| {

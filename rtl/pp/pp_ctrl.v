@@ -403,9 +403,9 @@ module pp_ctrl (
     wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
 
     // unwind: skip the uncoloured levels above the highest coloured one at
-    // or below `top` (their `if` issues nothing), then one POP per level
+    // or below `from` (their `if` issues nothing), then one POP per level
     // down to 1, then `last` (or ROOT_BLACK if level 0 has no colour): {st, sp}.
-    function [SW+SPW-1:0] unwind(input [SPW-1:0] top, input [STK_N-1:0] col, input [SW-1:0] last);
+    function [SW+SPW-1:0] unwind(input [SPW-1:0] from, input [STK_N-1:0] col, input [SW-1:0] last);
         integer   l;
         reg       found;
         reg [SPW-1:0] lvl;
@@ -413,7 +413,7 @@ module pp_ctrl (
             found = 1'b0;
             lvl   = {SPW{1'b0}};
             for (l = 1; l < STK_N; l = l + 1)
-                if (l[SPW-1:0] <= top && col[l]) begin
+                if (l[SPW-1:0] <= from && col[l]) begin
                     found = 1'b1;
                     lvl   = l[SPW-1:0];
                 end

@@ -6,8 +6,9 @@ use golden::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// rtl/fp and rtl/pp: the include directories, and every Verilog source in
-/// them, sorted (as a reviewer would read the tree).
+/// rtl/fp and rtl/pp: the include directories; and every Verilog source in
+/// them and in rtl/ itself (the top module), sorted (as a reviewer would
+/// read the tree).
 pub fn rtl_tree() -> ([PathBuf; 2], Vec<PathBuf>) {
     let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
     let dirs = [rtl.join("fp"), rtl.join("pp")];
@@ -21,6 +22,13 @@ pub fn rtl_tree() -> ([PathBuf; 2], Vec<PathBuf>) {
                 .filter(|p| p.extension().is_some_and(|x| x == "v")),
         );
     }
+    // The top module, rtl/top.v, beside the two directories.
+    files.extend(
+        std::fs::read_dir(&rtl)
+            .unwrap_or_else(|e| panic!("reading {}: {e}", rtl.display()))
+            .map(|e| e.expect("listing rtl/").path())
+            .filter(|p| p.extension().is_some_and(|x| x == "v")),
+    );
     files.sort();
     (dirs, files)
 }

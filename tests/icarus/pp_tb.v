@@ -63,24 +63,7 @@ module pp_tb;
     reg [111:0] writes [0:MAX_WRITES-1];
     reg [31:0]  pixels [0:MAX_PIXELS-1];
 
-    // clk low, settled: the outputs are this cycle's, and the inputs may
-    // change.
-    task fall;
-        begin
-            clk = 1'b0;
-            #5;
-        end
-    endtask
-
-    // The rising edge, after the inputs set since fall have settled (an
-    // input changed in the time step of the edge would race it).
-    task rise;
-        begin
-            #5;
-            clk = 1'b1;
-            #5;
-        end
-    endtask
+    `include "tb_clock.vh"
 
     // fall, and stop the simulation unless ready: the port protocol takes
     // scene writes and pixels only while the controller is idle.

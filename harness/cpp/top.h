@@ -1,0 +1,52 @@
+// The verilated top module (rtl/top.v): N pixel processors behind a
+// coordinate stream and a result stream, driven in batches from Rust
+// (bridge.rs, top.rs): one FFI call runs many cycles and fills Rust-owned
+// vectors with results and trace events.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "rust/cxx.h"
+
+namespace rtcosim {
+
+struct TopEvent;
+struct TopResult;
+struct TopRun;
+
+class TopSim {
+public:
+    virtual ~TopSim() = default;
+    // rst_n low for two clock edges, then high for one; forgets queued
+    // coordinates; throws unless scene_ready is then high.
+    virtual void reset() = 0;
+    // One broadcast scene-port write at a rising edge; throws while a frame
+    // is in flight or scene_ready is low.
+    virtual void write_scene(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) = 0;
+    // Drives fault_state, fault_xor and fault_procs from now on.
+    virtual void set_fault(std::uint16_t state, std::uint32_t xor_mask, std::uint32_t procs_mask) = 0;
+    // out_ready low in `stall_percent` % of the cycles, from a xorshift
+    // generator seeded with `seed` (0 percent: always ready).
+    virtual void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent) = 0;
+    // Cycles a processor may spend on one pixel (Watchdog), and, twice
+    // over, the top without any handshake (Stalled), before run() stops.
+    virtual void set_timeout(std::uint64_t cycles) = 0;
+    // Starts a frame from the coordinate stream: `coords` (x | y << 16) are
+    // offered in order. Throws while a frame is in flight.
+    virtual void feed(rust::Slice<const std::uint32_t> coords) = 0;
+    // Starts a frame from the raster generator over the inclusive window.
+    // Throws while a frame is in flight.
+    virtual void start_raster(std::uint16_t x0, std::uint16_t y0, std::uint16_t x1, std::uint16_t y1) = 0;
+    // Clocks the model until the frame is drained, `max_results` results or
+    // `max_events` events are buffered, `max_cycles` cycles have run, or a
+    // watchdog trips; appends to `results` and `events`.
+    virtual TopRun run(rust::Vec<TopResult>& results, rust::Vec<TopEvent>& events, std::uint64_t max_results,
+                       std::uint64_t max_events, std::uint64_t max_cycles) = 0;
+};
+
+// Builds and resets the top verilated with `procs` processors and these
+// method codes (rtl/fp/fp_defs.vh); throws if that variant was not built.
+std::unique_ptr<TopSim> new_top(std::uint32_t procs, std::uint32_t recip_method, std::uint32_t sqrt_method);
+
+}  // namespace rtcosim

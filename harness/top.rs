@@ -1,0 +1,441 @@
+//! The verilated top module (`rtl/top.v`): N pixel processors behind one
+//! broadcast scene port, a coordinate stream (or the raster generator) in
+//! and a tagged result stream out, verilated with every processor's trace
+//! port (`PP_TRACE`) for the N and method pairs of `build.rs`
+//! (`TOP_VARIANTS`: N = 1 and 4, exact methods; more with `RTCOSIM_TOPS`).
+//!
+//! # The streamed driver
+//!
+//! The C++ side (`harness/cpp/top.cpp`) runs the clock loop: it offers the
+//! frame's coordinates on the in stream, drives `out_ready` (always high, or
+//! low in a seeded share of cycles: [`Top::set_backpressure`]), and appends
+//! every result and every trace event (tagged with its processor and the
+//! pixel that processor was given) to vectors Rust owns, until
+//! [`RESULTS_PER_BATCH`] results or [`EVENTS_PER_BATCH`] events are
+//! buffered, the frame drains, or a watchdog trips: one FFI call per batch,
+//! never one per edge or pixel. Rust splits the events by processor and by
+//! the pixel's number among that processor's pixels (counted by the C++
+//! where the processor's `busy` rises): a processor may start its next
+//! pixel while its last result waits in the out register, but its results
+//! leave in the order it computed them, so its k-th result is its k-th
+//! pixel, and the events' (x, y) tag must agree. Each result records how
+//! many events were buffered before it left, so all of its pixel's events
+//! are in by then. Each pixel is handed to the caller as its result
+//! arrives, with its events numbered from 0, as
+//! [`crate::pixel_proc::PixelProcessor::run_pixel`] gives them.
+//!
+//! The pixel's cycles are the top's own count (`out_cycles`: every cycle
+//! with the processor's `ready` low, from the one after the start edge to
+//! the done cycle), the count the bare pixel processor's driver makes. A
+//! processor that spends more than the timeout on one pixel stops the run
+//! with [`PpError::Hung`] naming the processor ([`ProcessorId`]), the
+//! pixel and its state; a top that takes no coordinate and gives no result
+//! for twice as long stops it with [`PpError::Model`].
+
+use crate::bridge::ffi;
+use crate::pixel_proc::{
+    check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, DEFAULT_TIMEOUT_CYCLES,
+};
+use cxx::UniquePtr;
+use golden::fp::Method;
+use golden::pixel::PixelOutcome;
+use golden::scene::Scene;
+use golden::trace::TraceEvent;
+use golden::window::Window;
+use std::collections::VecDeque;
+
+/// Results buffered on the C++ side before a batch returns to Rust.
+pub const RESULTS_PER_BATCH: u64 = 1024;
+/// Trace events buffered on the C++ side before a batch returns to Rust.
+pub const EVENTS_PER_BATCH: u64 = 1 << 16;
+
+/// Where a frame's coordinates come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source<'a> {
+    /// The coordinate stream, in this order (repeats allowed).
+    Stream(&'a [(u32, u32)]),
+    /// The top's raster generator, row by row over the window.
+    Raster(Window),
+}
+
+/// One pixel as it left the top.
+#[derive(Debug, Clone, Copy)]
+pub struct TopPixel<'a> {
+    pub x: u32,
+    pub y: u32,
+    /// The processor that computed it.
+    pub processor: u32,
+    /// Its colour, its own cycle count, and the number of its events.
+    pub outcome: PixelOutcome,
+    /// Its trace events, `seq` from 0.
+    pub events: &'a [TraceEvent],
+}
+
+/// What a frame cost the top.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameStats {
+    pub pixels: u64,
+    /// From the cycle that took the first coordinate (or started the
+    /// raster) to the one that gave the last result, both counted.
+    pub frame_cycles: u64,
+    /// The pixels' own cycles, summed.
+    pub pixel_cycles: u64,
+    pub events: u64,
+    /// FFI calls of the clock loop.
+    pub batches: u64,
+}
+
+impl FrameStats {
+    /// Adds another frame's (a tile's) costs.
+    pub fn add(&mut self, other: &FrameStats) {
+        self.pixels += other.pixels;
+        self.frame_cycles += other.frame_cycles;
+        self.pixel_cycles += other.pixel_cycles;
+        self.events += other.events;
+        self.batches += other.batches;
+    }
+
+    /// The share of processor cycles (`procs` x frame cycles) in which a
+    /// processor had no pixel: what the dispatcher, the result stream and
+    /// the frame's start and end leave idle.
+    pub fn idle_share(&self, procs: u32) -> f64 {
+        let capacity = u64::from(procs) * self.frame_cycles;
+        if capacity == 0 {
+            return 0.0;
+        }
+        1.0 - self.pixel_cycles as f64 / capacity as f64
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Loaded {
+    width: u32,
+    height: u32,
+}
+
+/// One verilated top with its own `VerilatedContext`. Not `Send`: a model
+/// stays on the thread that built it.
+///
+/// ```compile_fail
+/// fn send<T: Send>() {}
+/// send::<rtcosim::top::Top>();
+/// ```
+pub struct Top {
+    procs: u32,
+    recip: Method,
+    sqrt: Method,
+    inner: UniquePtr<ffi::TopSim>,
+    scene: Option<Loaded>,
+    poisoned: bool,
+    results: Vec<ffi::TopResult>,
+    events: Vec<ffi::TopEvent>,
+    /// Per processor: the pixels it started whose results have not come,
+    /// by number, with their events.
+    pending: Vec<VecDeque<(u32, Vec<TraceEvent>)>>,
+    /// Per processor: the results it has given since reset.
+    given: Vec<u32>,
+}
+
+impl Top {
+    /// Builds and resets the top verilated with `procs` processors,
+    /// `RECIP_METHOD = recip` and `SQRT_METHOD = sqrt`.
+    pub fn new(procs: u32, recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        let inner = ffi::new_top(procs, recip.code(), sqrt.code()).map_err(|e| PpError::Build {
+            recip,
+            sqrt,
+            message: e.what().to_string(),
+        })?;
+        let mut top = Top {
+            procs,
+            recip,
+            sqrt,
+            inner,
+            scene: None,
+            poisoned: false,
+            results: Vec::new(),
+            events: Vec::new(),
+            pending: vec![VecDeque::new(); procs as usize],
+            given: vec![0; procs as usize],
+        };
+        top.set_timeout_cycles(DEFAULT_TIMEOUT_CYCLES);
+        Ok(top)
+    }
+
+    /// The number of pixel processors.
+    pub fn procs(&self) -> u32 {
+        self.procs
+    }
+
+    /// Cycles a processor may spend on one pixel before the run stops as
+    /// hung (at least 1); the top may go twice as long without taking a
+    /// coordinate or giving a result.
+    pub fn set_timeout_cycles(&mut self, cycles: u64) {
+        self.inner.pin_mut().set_timeout(cycles.max(1));
+    }
+
+    /// From the next cycle on, injects `fault` (see [`Fault`]) into the
+    /// processors whose bit is set in `procs_mask`; `None` switches it off.
+    pub fn set_fault(&mut self, fault: Option<Fault>, procs_mask: u32) {
+        let (state, xor) = fault.map_or((0, 0), |f| (f.state, f.xor));
+        self.inner.pin_mut().set_fault(state, xor, procs_mask);
+    }
+
+    /// Holds `out_ready` low in `stall_percent` % of the cycles (0: never),
+    /// drawn from a generator seeded with `seed`.
+    pub fn set_backpressure(&mut self, seed: u64, stall_percent: u32) {
+        self.inner
+            .pin_mut()
+            .set_backpressure(seed, stall_percent.min(100));
+    }
+
+    /// Resets the top (every processor) and loads `scene` through the
+    /// broadcast scene port. Refuses a scene whose float methods are not
+    /// the model's before touching the model.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+        check_methods(scene, self.recip, self.sqrt)?;
+        self.scene = None;
+        self.poisoned = true;
+        self.inner
+            .pin_mut()
+            .reset()
+            .map_err(|e| model_error(None, e))?;
+        for p in &mut self.pending {
+            p.clear();
+        }
+        self.given.fill(0);
+        self.write_scene(scene)
+    }
+
+    /// Changes the scene between two frames, without a reset: every scene
+    /// register and the configuration word through the scene port, which
+    /// the top takes while no processor has a pixel (thesis, future work:
+    /// "make the scene dynamic").
+    pub fn change_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+        check_methods(scene, self.recip, self.sqrt)?;
+        if self.poisoned {
+            return Err(PpError::Poisoned);
+        }
+        self.poisoned = true;
+        self.write_scene(scene)
+    }
+
+    fn write_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+        for (cfg, addr, [x, y, z]) in scene_port_writes(scene) {
+            self.inner
+                .pin_mut()
+                .write_scene(cfg, addr, x, y, z)
+                .map_err(|e| model_error(None, e))?;
+        }
+        self.poisoned = false;
+        self.scene = Some(Loaded {
+            width: scene.camera.width,
+            height: scene.camera.height,
+        });
+        Ok(())
+    }
+
+    /// Runs a frame of the loaded scene from `source` through the top,
+    /// calling `each` with every pixel as its result arrives (in the order
+    /// results leave the top). Every coordinate is checked against the
+    /// scene's image before the first cycle.
+    pub fn run_frame(
+        &mut self,
+        source: Source<'_>,
+        each: &mut dyn FnMut(TopPixel<'_>),
+    ) -> Result<FrameStats, PpError> {
+        if self.poisoned {
+            return Err(PpError::Poisoned);
+        }
+        let loaded = self.scene.ok_or(PpError::NoScene)?;
+        let outside = |(x, y): (u32, u32)| {
+            (x >= loaded.width || y >= loaded.height).then_some(PpError::OutsideImage {
+                x,
+                y,
+                width: loaded.width,
+                height: loaded.height,
+            })
+        };
+        match source {
+            Source::Stream(pixels) => {
+                if let Some(e) = pixels.iter().find_map(|&p| outside(p)) {
+                    return Err(e);
+                }
+                // Both fit 16 bits: scenes are at most 4096 wide and high.
+                let coords: Vec<u32> = pixels.iter().map(|&(x, y)| x | y << 16).collect();
+                self.poisoned = true;
+                self.inner
+                    .pin_mut()
+                    .feed(&coords)
+                    .map_err(|e| model_error(None, e))?;
+            }
+            Source::Raster(w) => {
+                let last = (w.x + w.width.max(1) - 1, w.y + w.height.max(1) - 1);
+                if let Some(e) = outside((w.x, w.y)).or(outside(last)) {
+                    return Err(e);
+                }
+                self.poisoned = true;
+                self.inner
+                    .pin_mut()
+                    .start_raster(w.x as u16, w.y as u16, last.0 as u16, last.1 as u16)
+                    .map_err(|e| model_error(None, e))?;
+            }
+        }
+        let mut stats = FrameStats::default();
+        loop {
+            self.results.clear();
+            self.events.clear();
+            let run = self
+                .inner
+                .pin_mut()
+                .run(
+                    &mut self.results,
+                    &mut self.events,
+                    RESULTS_PER_BATCH,
+                    EVENTS_PER_BATCH,
+                    u64::MAX,
+                )
+                .map_err(|e| model_error(None, e))?;
+            stats.batches += 1;
+            stats.events += self.events.len() as u64;
+            self.deliver(&mut stats, each)?;
+            match run.status {
+                ffi::TopStatus::Drained => {
+                    stats.frame_cycles = run.frame_cycles;
+                    break;
+                }
+                ffi::TopStatus::Batch | ffi::TopStatus::CycleLimit => {}
+                ffi::TopStatus::Watchdog => {
+                    return Err(PpError::Hung {
+                        x: u32::from(run.x),
+                        y: u32::from(run.y),
+                        processor: Some(ProcessorId {
+                            index: u32::from(run.proc),
+                            procs: self.procs,
+                        }),
+                        kind: HangKind::Timeout,
+                        // The C++ counts the start cycle too; a pixel's
+                        // cycles begin after the start edge.
+                        cycles: run.cycles.saturating_sub(1),
+                        last_state: run
+                            .has_last_state
+                            .then_some((run.last_state, run.last_state_cycle.saturating_sub(1))),
+                        state_port: run.state_port,
+                    });
+                }
+                ffi::TopStatus::Stalled => {
+                    return Err(model_error(
+                        None,
+                        format!(
+                            "the top stalled: no coordinate in and no result out for {} cycles, \
+                             {} of the frame's pixels out",
+                            run.cycles, stats.pixels
+                        ),
+                    ))
+                }
+                other => {
+                    return Err(model_error(
+                        None,
+                        format!("unknown batch status {}", other.repr),
+                    ))
+                }
+            }
+        }
+        self.poisoned = false;
+        Ok(stats)
+    }
+
+    /// Splits this batch's events by processor and hands every result to
+    /// `each` with its pixel's events.
+    fn deliver(
+        &mut self,
+        stats: &mut FrameStats,
+        each: &mut dyn FnMut(TopPixel<'_>),
+    ) -> Result<(), PpError> {
+        let mut consumed = 0;
+        for r in &self.results {
+            let upto = (r.events_before as usize).min(self.events.len());
+            demux(&mut self.pending, &self.events[consumed..upto]);
+            consumed = upto;
+            let (x, y) = (u32::from(r.x), u32::from(r.y));
+            let p = usize::from(r.proc);
+            let (Some(pending), Some(given)) = (self.pending.get_mut(p), self.given.get_mut(p))
+            else {
+                return Err(model_error(
+                    Some((x, y)),
+                    format!("a result from processor {} of {}", r.proc, self.procs),
+                ));
+            };
+            let number = *given;
+            *given += 1;
+            // A pixel without events has no entry.
+            let events = match pending.front() {
+                Some((n, _)) if *n == number => pending.pop_front().map(|(_, e)| e),
+                Some((n, _)) if *n < number => {
+                    return Err(model_error(
+                        Some((x, y)),
+                        format!(
+                            "processor {} started pixel #{n} and gave no result for it",
+                            r.proc
+                        ),
+                    ))
+                }
+                _ => None,
+            }
+            .unwrap_or_default();
+            if let Some(e) = events.iter().find(|e| (e.x, e.y) != (r.x, r.y)) {
+                return Err(model_error(
+                    Some((x, y)),
+                    format!(
+                        "processor {}'s pixel #{number} has an event of pixel ({}, {})",
+                        r.proc, e.x, e.y
+                    ),
+                ));
+            }
+            stats.pixels += 1;
+            stats.pixel_cycles += u64::from(r.cycles);
+            each(TopPixel {
+                x,
+                y,
+                processor: u32::from(r.proc),
+                outcome: PixelOutcome {
+                    rgb: r.rgb,
+                    cycles: u64::from(r.cycles),
+                    events: events.len() as u64,
+                },
+                events: &events,
+            });
+        }
+        demux(&mut self.pending, &self.events[consumed..]);
+        Ok(())
+    }
+}
+
+/// Appends each event to its processor's pixel, numbered on.
+fn demux(pending: &mut [VecDeque<(u32, Vec<TraceEvent>)>], events: &[ffi::TopEvent]) {
+    for e in events {
+        if let Some(q) = pending.get_mut(usize::from(e.proc)) {
+            if q.back().map(|(n, _)| *n) != Some(e.pixel) {
+                q.push_back((e.pixel, Vec::new()));
+            }
+            let Some((_, p)) = q.back_mut() else {
+                continue;
+            };
+            p.push(TraceEvent {
+                x: e.x,
+                y: e.y,
+                seq: p.len() as u32,
+                state: e.event.state,
+                dst: e.event.dst,
+                lanes: e.event.lanes,
+                values: e.event.values,
+            });
+        }
+    }
+}
+
+fn model_error(pixel: Option<(u32, u32)>, message: impl ToString) -> PpError {
+    PpError::Model {
+        pixel,
+        message: message.to_string(),
+    }
+}

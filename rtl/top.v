@@ -1,0 +1,368 @@
+`default_nettype none
+`include "isa.vh"
+`include "fp_defs.vh"
+// ============================================================================
+// top -- N pixel processors behind one scene port, a coordinate stream and a
+// result stream (thesis 4.9, "Topmodule", which the thesis left unbuilt)
+// ============================================================================
+//
+//   scene port ------------------------------------------> every processor
+//   in stream  --\
+//                 +--> stg (1 entry) --dispatcher--> start_q[i], tag[i]
+//   raster gen --/                                     |
+//                                  pixel_processor[i] -+-> done: slot[i]
+//   out stream <-- out register <-- round-robin arbiter <-- slot[0..N-1]
+//
+// Coordinates. raster_mode = 0: the in stream (in_valid/in_ready, in_x,
+// in_y) feeds the staging register. raster_mode = 1: the raster generator
+// does, row by row over the window win_x0..win_x1, win_y0..win_y1
+// (inclusive, sampled at an accepted raster_start), and in_ready stays low;
+// raster_busy is high until the window's last coordinate is staged.
+// raster_mode may change only while nothing is staged or generated.
+// in_ready is a register bit (no combinational path from any input but
+// raster_mode), so the stage takes a coordinate every other cycle at most:
+// far more than N processors of about 160 cycles a pixel consume.
+//
+// Dispatcher. A processor is free when the dispatcher has not given it a
+// pixel (busy_q) and its result slot is empty (res_valid_q). In a cycle with
+// a staged coordinate, a free processor and scene_we low, the lowest-
+// numbered free processor gets it at the rising edge: busy_q and the tag
+// (x, y) are set, and start_q raises start for the next cycle, in which the
+// processor is idle (ready) by construction. busy_q falls at the edge that
+// ends the processor's done cycle, when the slot takes the result. Between a
+// pixel's done cycle and the next pixel's first cycle on the same processor
+// lie three cycles (slot to the out register, dispatch, start).
+//
+// Results. Each processor has a result slot: x, y, rgb (valid only in the
+// done cycle, so captured there), and the pixel's cycles (every cycle with
+// ready low from the one after the start edge up to and including the done
+// cycle: the count harness/pixel_proc.rs defines and golden::micro
+// predicts). A round-robin arbiter moves one slot per cycle into the out
+// register (out_valid, out_x, out_y, out_proc, out_rgb, out_cycles) whenever
+// that register is empty or being taken (out_valid && out_ready). A pixel is
+// dispatched only to a processor whose slot is empty, so a processor never
+// finishes into a full slot: backpressure stalls processors, it loses and
+// duplicates nothing. Results leave in completion order, not coordinate
+// order; out_x, out_y and out_proc tag them.
+//
+// Timing. Every path through the dispatcher and the arbiter starts at a
+// register (busy_q, res_valid_q, rr_q, stg_valid_q) and ends at one: an
+// N-bit priority search each. No output depends combinationally on an input
+// except in_ready (on raster_mode) and the out register's load enable (on
+// out_ready, one gate).
+//
+// Scene. The scene port is broadcast to every processor. A write is taken at
+// a rising edge with scene_we && scene_ready; scene_ready is high while no
+// processor has a pixel (every busy_q low: every processor idle). While
+// scene_we is high nothing is dispatched, so a host that waits for
+// scene_ready, then writes, changes the scene between two pixels of no
+// processor: between frames, drain (every result out), write the new scene
+// (registers, then the configuration word), and stream the next frame.
+// Writes while scene_ready is low are dropped.
+//
+// With PP_TRACE (the co-simulation; never for synthesis) each processor's
+// trace port is brought out, lane i of each bus being processor i, with
+// trace_busy (busy_q) and trace_px, trace_py (the pixel it was given), and
+// the fault port is broadcast to the processors selected by fault_procs.
+// ============================================================================
+module top #(
+    parameter integer N            = 4,
+    parameter integer RECIP_METHOD = `FP_METHOD_EXACT,
+    parameter integer SQRT_METHOD  = `FP_METHOD_EXACT,
+    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT
+) (
+    input  wire                             clk,
+    input  wire                             rst_n,
+    // Scene port (broadcast).
+    input  wire                             scene_we,
+    input  wire                             scene_cfg,
+    input  wire [`ISA_DIM_REG_BITS-1:0]     scene_addr,
+    input  wire [95:0]                      scene_data,
+    output wire                             scene_ready,
+    // Coordinate source: the in stream, or the raster generator.
+    input  wire                             raster_mode,
+    input  wire                             raster_start,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   win_x0,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   win_y0,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   win_x1,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   win_y1,
+    output wire                             raster_busy,
+    input  wire                             in_valid,
+    output wire                             in_ready,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   in_x,
+    input  wire [`ISA_DIM_COORD_BITS-1:0]   in_y,
+    // Result stream.
+    output wire                             out_valid,
+    input  wire                             out_ready,
+    output wire [`ISA_DIM_COORD_BITS-1:0]   out_x,
+    output wire [`ISA_DIM_COORD_BITS-1:0]   out_y,
+    output wire [((N > 1) ? $clog2(N) : 1)-1:0] out_proc,
+    output wire [95:0]                      out_rgb,
+    output wire [31:0]                      out_cycles
+`ifdef PP_TRACE
+    ,
+    output wire [N-1:0]                     trace_valid,
+    output wire [N-1:0]                     trace_busy,
+    output wire [N*`ISA_DIM_ST_BITS-1:0]    trace_state,
+    output wire [N*`ISA_DIM_REG_BITS-1:0]   trace_dst,
+    output wire [N*3-1:0]                   trace_lanes,
+    output wire [N*96-1:0]                  trace_value,
+    output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_px,
+    output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_py,
+    input  wire [`ISA_DIM_ST_BITS-1:0]      fault_state,
+    input  wire [31:0]                      fault_xor,
+    input  wire [N-1:0]                     fault_procs
+`endif
+);
+
+    localparam integer CW = `ISA_DIM_COORD_BITS;
+    localparam integer PW = (N > 1) ? $clog2(N) : 1;
+
+    // ------------------------------------------------------------------------
+    // Staging register, fed by the in stream or the raster generator
+    // ------------------------------------------------------------------------
+    reg          stg_valid_q;
+    reg [CW-1:0] stg_x_q, stg_y_q;
+    reg          rs_busy_q;
+    reg [CW-1:0] rs_x_q, rs_y_q, rs_x0_q, rs_x1_q, rs_y1_q;
+    wire         dispatch;
+
+    assign in_ready    = !stg_valid_q && !raster_mode;
+    assign raster_busy = rs_busy_q;
+
+    wire in_take = in_valid && in_ready;
+    wire rs_take = raster_mode && rs_busy_q && !stg_valid_q;
+
+    always @(posedge clk or negedge rst_n) begin
+        if (!rst_n) begin
+            stg_valid_q <= 1'b0;
+            stg_x_q     <= {CW{1'b0}};
+            stg_y_q     <= {CW{1'b0}};
+        end else if (in_take || rs_take) begin
+            stg_valid_q <= 1'b1;
+            stg_x_q     <= in_take ? in_x : rs_x_q;
+            stg_y_q     <= in_take ? in_y : rs_y_q;
+        end else if (dispatch) begin
+            stg_valid_q <= 1'b0;
+        end
+    end
+
+    always @(posedge clk or negedge rst_n) begin
+        if (!rst_n) begin
+            rs_busy_q <= 1'b0;
+            rs_x_q    <= {CW{1'b0}};
+            rs_y_q    <= {CW{1'b0}};
+            rs_x0_q   <= {CW{1'b0}};
+            rs_x1_q   <= {CW{1'b0}};
+            rs_y1_q   <= {CW{1'b0}};
+        end else if (!rs_busy_q) begin
+            if (raster_mode && raster_start) begin
+                rs_busy_q <= 1'b1;
+                rs_x_q    <= win_x0;
+                rs_y_q    <= win_y0;
+                rs_x0_q   <= win_x0;
+                rs_x1_q   <= win_x1;
+                rs_y1_q   <= win_y1;
+            end
+        end else if (rs_take) begin
+            if (rs_x_q != rs_x1_q) begin
+                rs_x_q <= rs_x_q + 1'b1;
+            end else if (rs_y_q != rs_y1_q) begin
+                rs_x_q <= rs_x0_q;
+                rs_y_q <= rs_y_q + 1'b1;
+            end else begin
+                rs_busy_q <= 1'b0;
+            end
+        end
+    end
+
+    // ------------------------------------------------------------------------
+    // Dispatcher: the lowest-numbered free processor takes the staged pixel
+    // ------------------------------------------------------------------------
+    reg  [N-1:0]    busy_q, start_q, res_valid_q;
+    wire [N-1:0]    free = ~busy_q & ~res_valid_q;
+    reg             pick_found;
+    reg  [PW-1:0]   pick;
+    integer         k;
+
+    always @* begin
+        pick_found = 1'b0;
+        pick       = {PW{1'b0}};
+        for (k = N - 1; k >= 0; k = k - 1) begin
+            if (free[k]) begin
+                pick_found = 1'b1;
+                pick       = k[PW-1:0];
+            end
+        end
+    end
+
+    assign dispatch    = stg_valid_q && pick_found && !scene_we;
+    assign scene_ready = ~|busy_q;
+
+    // ------------------------------------------------------------------------
+    // Round-robin arbiter over the result slots, into the out register
+    // ------------------------------------------------------------------------
+    reg  [PW-1:0]   rr_q;
+    reg             grant_found;
+    reg  [PW-1:0]   grant;
+    integer         j, idx;
+
+    always @* begin
+        grant_found = 1'b0;
+        grant       = {PW{1'b0}};
+        for (j = 1; j <= N; j = j + 1) begin
+            idx = {{(32 - PW){1'b0}}, rr_q} + j;
+            if (idx >= N) idx = idx - N;
+            if (!grant_found && res_valid_q[idx]) begin
+                grant_found = 1'b1;
+                grant       = idx[PW-1:0];
+            end
+        end
+    end
+
+    reg             out_valid_q;
+    reg  [CW-1:0]   out_x_q, out_y_q;
+    reg  [PW-1:0]   out_proc_q;
+    reg  [95:0]     out_rgb_q;
+    reg  [31:0]     out_cycles_q;
+    wire            out_load = (!out_valid_q || out_ready) && grant_found;
+
+    wire [N*CW-1:0] res_x_flat, res_y_flat;
+    wire [N*96-1:0] res_rgb_flat;
+    wire [N*32-1:0] res_cyc_flat;
+
+    always @(posedge clk or negedge rst_n) begin
+        if (!rst_n) begin
+            out_valid_q  <= 1'b0;
+            out_x_q      <= {CW{1'b0}};
+            out_y_q      <= {CW{1'b0}};
+            out_proc_q   <= {PW{1'b0}};
+            out_rgb_q    <= 96'd0;
+            out_cycles_q <= 32'd0;
+            rr_q         <= {PW{1'b0}};
+        end else if (!out_valid_q || out_ready) begin
+            out_valid_q <= grant_found;
+            if (grant_found) begin
+                out_x_q      <= res_x_flat[grant*CW +: CW];
+                out_y_q      <= res_y_flat[grant*CW +: CW];
+                out_proc_q   <= grant;
+                out_rgb_q    <= res_rgb_flat[grant*96 +: 96];
+                out_cycles_q <= res_cyc_flat[grant*32 +: 32];
+                rr_q         <= grant;
+            end
+        end
+    end
+
+    assign out_valid  = out_valid_q;
+    assign out_x      = out_x_q;
+    assign out_y      = out_y_q;
+    assign out_proc   = out_proc_q;
+    assign out_rgb    = out_rgb_q;
+    assign out_cycles = out_cycles_q;
+
+    // ------------------------------------------------------------------------
+    // The processors, each with its tag, cycle counter and result slot
+    // ------------------------------------------------------------------------
+    wire scene_take = scene_we && scene_ready;
+
+    genvar gi;
+    generate
+        for (gi = 0; gi < N; gi = gi + 1) begin : g_pp
+            reg  [CW-1:0] tag_x_q, tag_y_q;
+            reg  [31:0]   cnt_q;
+            reg  [CW-1:0] res_x_q, res_y_q;
+            reg  [95:0]   res_rgb_q;
+            reg  [31:0]   res_cyc_q;
+            wire          ready, done;
+            wire [95:0]   rgb;
+            localparam [PW-1:0] ID = gi;
+            wire          mine = dispatch && (pick == ID);
+
+            always @(posedge clk or negedge rst_n) begin
+                if (!rst_n) begin
+                    busy_q[gi]  <= 1'b0;
+                    start_q[gi] <= 1'b0;
+                    tag_x_q     <= {CW{1'b0}};
+                    tag_y_q     <= {CW{1'b0}};
+                end else begin
+                    start_q[gi] <= mine;
+                    if (mine) begin
+                        busy_q[gi] <= 1'b1;
+                        tag_x_q    <= stg_x_q;
+                        tag_y_q    <= stg_y_q;
+                    end else if (done) begin
+                        busy_q[gi] <= 1'b0;
+                    end
+                end
+            end
+
+            // The pixel's cycles: cleared at the start edge, counting every
+            // cycle with ready low; the done cycle is the count plus one.
+            always @(posedge clk or negedge rst_n) begin
+                if (!rst_n) cnt_q <= 32'd0;
+                else if (start_q[gi]) cnt_q <= 32'd0;
+                else if (!ready) cnt_q <= cnt_q + 32'd1;
+            end
+
+            always @(posedge clk or negedge rst_n) begin
+                if (!rst_n) begin
+                    res_valid_q[gi] <= 1'b0;
+                    res_x_q         <= {CW{1'b0}};
+                    res_y_q         <= {CW{1'b0}};
+                    res_rgb_q       <= 96'd0;
+                    res_cyc_q       <= 32'd0;
+                end else if (done) begin
+                    res_valid_q[gi] <= 1'b1;
+                    res_x_q         <= tag_x_q;
+                    res_y_q         <= tag_y_q;
+                    res_rgb_q       <= rgb;
+                    res_cyc_q       <= cnt_q + 32'd1;
+                end else if (out_load && grant == ID) begin
+                    res_valid_q[gi] <= 1'b0;
+                end
+            end
+
+            assign res_x_flat[gi*CW +: CW]   = res_x_q;
+            assign res_y_flat[gi*CW +: CW]   = res_y_q;
+            assign res_rgb_flat[gi*96 +: 96] = res_rgb_q;
+            assign res_cyc_flat[gi*32 +: 32] = res_cyc_q;
+
+            pixel_processor #(
+                .RECIP_METHOD (RECIP_METHOD),
+                .SQRT_METHOD  (SQRT_METHOD),
+                .STACK_DEPTH  (STACK_DEPTH)
+            ) u_pp (
+                .clk        (clk),
+                .rst_n      (rst_n),
+                .scene_we   (scene_take),
+                .scene_cfg  (scene_cfg),
+                .scene_addr (scene_addr),
+                .scene_data (scene_data),
+                .start      (start_q[gi]),
+                .px         (tag_x_q),
+                .py         (tag_y_q),
+                .ready      (ready),
+                .done       (done),
+                .rgb        (rgb)
+`ifdef PP_TRACE
+                ,
+                .trace_valid (trace_valid[gi]),
+                .trace_state (trace_state[gi*`ISA_DIM_ST_BITS +: `ISA_DIM_ST_BITS]),
+                .trace_dst   (trace_dst[gi*`ISA_DIM_REG_BITS +: `ISA_DIM_REG_BITS]),
+                .trace_lanes (trace_lanes[gi*3 +: 3]),
+                .trace_value (trace_value[gi*96 +: 96]),
+                .fault_state (fault_state),
+                .fault_xor   (fault_procs[gi] ? fault_xor : 32'd0)
+`endif
+            );
+
+`ifdef PP_TRACE
+            assign trace_busy[gi]            = busy_q[gi];
+            assign trace_px[gi*CW +: CW]     = tag_x_q;
+            assign trace_py[gi*CW +: CW]     = tag_y_q;
+`endif
+        end
+    endgenerate
+
+endmodule
+`default_nettype wire
