@@ -5,6 +5,8 @@
 #   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6
 #   rtl/synth/synth.sh xc6v top exact 4    # top, N = 4, pixel_processor a black box
 #   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
+#   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (fp_reg.v);
+#                                          # mul: fp_mul (methods: no effect)
 #
 # Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast.
 # STACK_DEPTH is the RTL's default. Out of context: no I/O or clock buffers.
@@ -15,7 +17,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5 pp|top exact|fast [N]" >&2
+    echo "usage: $0 xc6v|ecp5 pp|top|add|mul exact|fast [N]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -50,6 +52,13 @@ top)
     read="read_verilog -lib -Irtl/fp -Irtl/pp rtl/pp/pixel_processor.v; read_verilog $inc rtl/top.v"
     params="$params -chparam N $n"
     out=$device-top-$methods-N$n
+    ;;
+add | mul)
+    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    top=fp_reg
+    read="read_verilog $inc rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v rtl/fp/fp_$design.v rtl/synth/fp_reg.v"
+    params="-chparam MUL $([ "$design" = mul ] && echo 1 || echo 0)"
+    out=$device-$design
     ;;
 *) usage ;;
 esac
