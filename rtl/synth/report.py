@@ -127,8 +127,13 @@ def resources(top, cells, netname):
 
 
 def main(path):
-    with open(path) as f:
-        design = json.load(f)
+    try:
+        with open(path) as f:
+            design = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.exit(f"report.py: cannot read {path} as a yosys JSON netlist: {e}")
+    if not isinstance(design, dict) or "modules" not in design:
+        sys.exit(f"report.py: {path} is not a yosys JSON netlist (no \"modules\")")
     mods = {n: m for n, m in design["modules"].items()
             if not int(m.get("attributes", {}).get("blackbox", "0") or 0)
             and m.get("cells")}
