@@ -5,7 +5,7 @@
 #   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6
 #   rtl/synth/synth.sh xc6v top exact 4    # top, N = 4, pixel_processor a black box
 #   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
-#   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (fp_reg.v);
+#   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (tests/synth/fp_reg.v);
 #                                          # mul: fp_mul (methods: no effect)
 #
 # Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast.
@@ -56,7 +56,7 @@ top)
 add | mul)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
     top=fp_reg
-    read="read_verilog $inc rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v rtl/fp/fp_$design.v rtl/synth/fp_reg.v"
+    read="read_verilog $inc rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v rtl/fp/fp_$design.v tests/synth/fp_reg.v"
     params="-chparam MUL $([ "$design" = mul ] && echo 1 || echo 0)"
     out=$device-$design
     ;;
