@@ -66,16 +66,16 @@ module fp_recip #(
         end
     endfunction
 
-    // Two nested loops, each short enough for Verilator's default unroll limit.
-    wire [SEED_WIDTH-1:0] seed_rom [0:SEED_SIZE-1];
-    genvar gh, gl;
-    generate
-        for (gh = 0; gh < SEED_SIZE / 64; gh = gh + 1) begin : g_seed_hi
-            for (gl = 0; gl < 64; gl = gl + 1) begin : g_seed_lo
-                assign seed_rom[gh*64 + gl] = seed_entry(gh*64 + gl);
-            end
+    // A ROM, filled once at time 0 (the standard FPGA ROM-init idiom: Yosys
+    // turns the loop into the memory's initial contents, simulators run it)
+    // and read only at the clock edge, into seed_q: block RAM, not logic.
+    reg [SEED_WIDTH-1:0] seed_rom [0:SEED_SIZE-1];
+    integer seed_i;
+    initial begin
+        for (seed_i = 0; seed_i < SEED_SIZE; seed_i = seed_i + 1) begin
+            seed_rom[seed_i] = seed_entry(seed_i);
         end
-    endgenerate
+    end
 
     // ------------------------------------------------------------------------
     // Input stage

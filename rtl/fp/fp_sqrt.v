@@ -62,23 +62,26 @@ module fp_sqrt #(
     // same double operations). An integer square-root loop would be exact too,
     // but Verilator takes ~30 s to elaborate 8192 of them; $sqrt takes none.
     // ------------------------------------------------------------------------
-    function integer seed_entry(input integer odd, input integer index);
-        seed_entry = $rtoi((1 << SEED_WIDTH)
-                           / $sqrt((1.0 + (index + 0.5) / HALF_SIZE) * (odd + 1)) + 0.5);
+    function [SEED_WIDTH-1:0] seed_entry(input integer odd, input integer index);
+        reg [31:0] v_unused_hi;  // only the low SEED_WIDTH bits are ever set
+        begin
+            v_unused_hi = $rtoi((1 << SEED_WIDTH)
+                                / $sqrt((1.0 + (index + 0.5) / HALF_SIZE) * (odd + 1)) + 0.5);
+            seed_entry = v_unused_hi[SEED_WIDTH-1:0];
+        end
     endfunction
 
-    // Index {odd, fraction}; nested loops keep Verilator's unroll limit happy.
-    wire [SEED_WIDTH-1:0] seed_rom [0:2*HALF_SIZE-1];
-    genvar gh, gl;
-    generate
-        for (gh = 0; gh < 2 * HALF_SIZE / 64; gh = gh + 1) begin : g_seed_hi
-            for (gl = 0; gl < 64; gl = gl + 1) begin : g_seed_lo
-                localparam integer SEED = seed_entry((gh*64 + gl) / HALF_SIZE,
-                                                     (gh*64 + gl) % HALF_SIZE);
-                assign seed_rom[gh*64 + gl] = SEED[SEED_WIDTH-1:0];
-            end
+    // Index {odd, fraction}. A ROM, filled once at time 0 (the standard FPGA
+    // ROM-init idiom: Yosys turns the loop into the memory's initial contents,
+    // simulators run it) and read only at the clock edge, into seed_q: block
+    // RAM, not logic.
+    reg [SEED_WIDTH-1:0] seed_rom [0:2*HALF_SIZE-1];
+    integer seed_i;
+    initial begin
+        for (seed_i = 0; seed_i < 2 * HALF_SIZE; seed_i = seed_i + 1) begin
+            seed_rom[seed_i] = seed_entry(seed_i / HALF_SIZE, seed_i % HALF_SIZE);
         end
-    endgenerate
+    end
 
     // ------------------------------------------------------------------------
     // Input stage
