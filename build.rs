@@ -277,7 +277,7 @@ fn run() -> Result<(), String> {
             .collect::<Vec<_>>(),
     )?;
 
-    let results: Vec<Result<Vec<PathBuf>, String>> = std::thread::scope(|s| {
+    let results: Vec<Result<Vec<CppFile>, String>> = std::thread::scope(|s| {
         let handles: Vec<_> = models
             .iter()
             .map(|m| s.spawn(|| verilate(&verilator, m, &out)))
@@ -291,17 +291,22 @@ fn run() -> Result<(), String> {
             .collect()
     });
 
+    // The untraced models' fast and slow code, the traced models' code, and
+    // the runtime (each runtime file once).
     let mut model_files = Vec::new();
+    let mut slow_files = Vec::new();
     let mut wave_files = Vec::new();
     let mut globals = BTreeSet::new();
     for (files, model) in results.into_iter().zip(&models) {
         for f in files? {
-            if f.starts_with(&verilator.root) {
-                globals.insert(f);
+            if f.path.starts_with(&verilator.root) {
+                globals.insert(f.path);
             } else if model.trace {
-                wave_files.push(f);
+                wave_files.push(f.path);
+            } else if f.slow {
+                slow_files.push(f.path);
             } else {
-                model_files.push(f);
+                model_files.push(f.path);
             }
         }
     }
@@ -362,12 +367,29 @@ fn run() -> Result<(), String> {
         .cargo_warnings(false)
         .compile("rtcosim_wave_models");
 
+    // The models' slow code (constructors, the seed tables' initialisation,
+    // initial and settle evaluation) runs once per model: unoptimized, as
+    // Verilator's own makefile compiles it (OPT_SLOW). It is two thirds of
+    // the generated C++ and, at -O2, most of the build's g++ time (the N = 4
+    // top's largest slow file: 68 s at -O2, 8 s at -O0). Compiled to objects
+    // here and archived with the fast code below, so that the linker sees
+    // one library whatever calls what.
+    let mut slow = cc::Build::new();
+    common(&mut slow);
+    let slow_objects = slow
+        .files(&slow_files)
+        .opt_level(0)
+        .warnings(false)
+        .cargo_warnings(false)
+        .compile_intermediates();
+
     // Verilator's generated code and runtime, plus the fatal-error hooks the
     // runtime calls: not ours to warn about.
     let mut verilated = cc::Build::new();
     common(&mut verilated);
     verilated
         .files(&model_files)
+        .objects(&slow_objects)
         .files(&globals)
         .file("harness/cpp/vl_user.cpp")
         .warnings(false)
@@ -763,9 +785,16 @@ fn write_models(
     fs::write(path, text).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
+/// One C++ file a model needs, and whether Verilator files it as slow code
+/// (constructors, initial and settle evaluation: run once per model).
+struct CppFile {
+    path: PathBuf,
+    slow: bool,
+}
+
 /// Runs `verilator --cc` for one model and returns the C++ files to compile
 /// (model classes and the runtime files it asks for).
-fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<PathBuf>, String> {
+fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<CppFile>, String> {
     let mdir = out.join(&m.prefix);
     let _ = fs::remove_dir_all(&mdir);
     let mut cmd = v.command();
@@ -831,13 +860,18 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<PathBuf>, String
             continue;
         }
         let name = line.trim_end_matches('\\').trim();
-        match current.as_deref() {
-            Some("VM_CLASSES_FAST" | "VM_CLASSES_SLOW" | "VM_SUPPORT_FAST" | "VM_SUPPORT_SLOW") => {
-                files.push(mdir.join(format!("{name}.cpp")))
-            }
-            Some("VM_GLOBAL_FAST" | "VM_GLOBAL_SLOW") => {
-                files.push(v.root.join("include").join(format!("{name}.cpp")))
-            }
+        let var = current.as_deref().unwrap_or("");
+        let slow = var.ends_with("_SLOW");
+        match var {
+            "VM_CLASSES_FAST" | "VM_CLASSES_SLOW" | "VM_SUPPORT_FAST" | "VM_SUPPORT_SLOW" => files
+                .push(CppFile {
+                    path: mdir.join(format!("{name}.cpp")),
+                    slow,
+                }),
+            "VM_GLOBAL_FAST" | "VM_GLOBAL_SLOW" => files.push(CppFile {
+                path: v.root.join("include").join(format!("{name}.cpp")),
+                slow,
+            }),
             _ => {}
         }
         if !line.ends_with('\\') {
