@@ -27,14 +27,16 @@
 //! `rtcosim_top_models.h`; its N processors are inlined, so N = 4 costs
 //! about four pixel processors of g++ time.
 //!
-//! Cost (Verilator 5.006, g++ -O2, CPU seconds): each pixel processor
-//! variant about 3 s of Verilator and 17-18 s of g++, 70 s of g++ for the
-//! four pairs, against 43 s for all seven float-unit models (recip and sqrt
-//! 8-9 s each, the others 3 s) and 4 s for the runtime. All four pairs are
-//! built because only the mixed ones catch RECIP_METHOD and SQRT_METHOD
-//! swapped on the way down. Each traced variant adds about 3 s of Verilator
-//! and 16.5 s of g++ -O0 (20 s at full trace depth; 192 s at -O2), about
-//! 80 CPU seconds for the four.
+//! Every model's fast code is compiled at -O2 and its slow code (Verilator's
+//! `*__Slow.cpp`: constructors, the seed tables' initialisation, initial and
+//! settle evaluation, run once per model) at -O0, as Verilator's own makefile
+//! does (OPT_SLOW); the slow code is two thirds of the generated C++ (11.3 of
+//! the N = 4 top's 16 MB) and at -O2 took most of the build's g++ time. All
+//! four method pairs of the pixel processor are built because only the mixed
+//! ones catch RECIP_METHOD and SQRT_METHOD swapped on the way down. A
+//! release rebuild after an RTL change (every model, the traced ones, the
+//! runtime, and the Rust code of this crate) takes about 5.5 CPU minutes
+//! (docs/perf.md, "Build time").
 
 use std::collections::BTreeSet;
 use std::env;
@@ -384,10 +386,13 @@ fn run() -> Result<(), String> {
         .compile_intermediates();
 
     // Verilator's generated code and runtime, plus the fatal-error hooks the
-    // runtime calls: not ours to warn about.
+    // runtime calls: not ours to warn about. The fast code at -O3, which
+    // runs the models 1.35 times as fast as -O2 (docs/perf.md, "Verilator's
+    // speed levers").
     let mut verilated = cc::Build::new();
     common(&mut verilated);
     verilated
+        .opt_level(3)
         .files(&model_files)
         .objects(&slow_objects)
         .files(&globals)

@@ -48,6 +48,11 @@ pub struct Run<'a> {
 }
 
 impl Run<'_> {
+    /// `n` a second over the run's time; none for a run too short to time.
+    fn per_second(&self, n: u64) -> Option<f64> {
+        (self.seconds > 0.0).then(|| n as f64 / self.seconds)
+    }
+
     /// The junit test case's name: the scene and the method pair.
     fn case_name(&self, report: &CosimReport) -> String {
         format!(
@@ -129,6 +134,18 @@ pub fn to_json(run: &Run, report: &CosimReport) -> serde_json::Value {
         "fault": report.fault.map(|f| f.to_string()),
         "threads": run.threads,
         "seconds": run.seconds,
+        "throughput": {
+            "pixels_per_second": run.per_second(report.compare.counts.pixels),
+            "rtl_cycles_per_second": run.per_second(report.compare.counts.a_cycles),
+        },
+        "top": report.top.map(|t| json!({
+            "processors": t.procs,
+            "tiles": t.tiles,
+            "frame_cycles": t.stats.frame_cycles,
+            "pixel_cycles": t.stats.pixel_cycles,
+            "dispatcher_idle_share": t.idle_share(),
+            "batches": t.stats.batches,
+        })),
         "passed": report.passed(),
         "compare": report.compare.to_json(),
     })
@@ -172,9 +189,22 @@ pub fn to_markdown(run: &Run, report: &CosimReport) -> String {
     }
     let _ = writeln!(
         md,
-        "| time | {:.2} s on {} threads |",
-        run.seconds, run.threads
+        "| time | {:.2} s on {} threads: {:.0} pixels/s, {:.2} M RTL cycles/s |",
+        run.seconds,
+        run.threads,
+        run.per_second(c.pixels).unwrap_or(0.0),
+        run.per_second(c.a_cycles).unwrap_or(0.0) / 1e6
     );
+    if let Some(t) = &report.top {
+        let _ = writeln!(
+            md,
+            "| top | {} processors, {} tiles: {} frame cycles, {:.1}% dispatcher idle |",
+            t.procs,
+            t.tiles,
+            t.stats.frame_cycles,
+            100.0 * t.idle_share()
+        );
+    }
     let _ = writeln!(md, "\n## Results\n\n| | RTL | golden |\n|---|---:|---:|");
     let _ = writeln!(md, "| events | {} | {} |", c.a_events, c.b_events);
     let _ = writeln!(md, "| cycles | {} | {} |", c.a_cycles, c.b_cycles);

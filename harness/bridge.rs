@@ -195,6 +195,13 @@ pub(crate) mod ffi {
             timeout_cycles: u64,
         ) -> Result<PpRun>;
 
+        /// The bare clock loop (`harness/cpp/bare.h`): runs each pixel of
+        /// `coords` (x | y << 16) to done reading nothing but ready and
+        /// done; returns the sum of their cycles. The baseline of the
+        /// harness's overhead. Fails when not ready for a pixel or a pixel
+        /// takes more than `timeout_cycles`.
+        fn run_bare(self: Pin<&mut PixelProc>, coords: &[u32], timeout_cycles: u64) -> Result<u64>;
+
         /// On a `new_pixel_proc_wave` model (others fail), once: dumps the
         /// cycles `first_cycle..=last_cycle` of the pixels run next into the
         /// FST file `path` (see `harness/cpp/pp_wave.h` for the time axis).

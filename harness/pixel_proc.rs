@@ -166,7 +166,7 @@ pub(crate) fn check_methods(scene: &Scene, recip: Method, sqrt: Method) -> Resul
 /// for every scene register ([`loader::scene_writes`], `cfg` false), then
 /// the configuration word (`cfg` true). The pixel processor and the top
 /// load a scene the same way.
-pub(crate) fn scene_port_writes(scene: &Scene) -> Vec<(bool, u8, [u32; 3])> {
+pub fn scene_port_writes(scene: &Scene) -> Vec<(bool, u8, [u32; 3])> {
     let mut writes: Vec<_> = loader::scene_writes(scene)
         .into_iter()
         .map(|(addr, lanes)| (false, addr, lanes))
@@ -319,15 +319,7 @@ impl PixelProcessor {
         if self.poisoned {
             return Err(PpError::Poisoned);
         }
-        let loaded = self.scene.ok_or(PpError::NoScene)?;
-        if px >= loaded.width || py >= loaded.height {
-            return Err(PpError::OutsideImage {
-                x: px,
-                y: py,
-                width: loaded.width,
-                height: loaded.height,
-            });
-        }
+        self.check_pixel(px, py)?;
         self.scratch.clear();
         // Both fit: scenes are at most MAX_IMAGE_SIDE = 4096 wide and high.
         let (x, y) = (px as u16, py as u16);
@@ -390,5 +382,45 @@ impl PixelProcessor {
             cycles: run.cycles,
             events: run.events,
         })
+    }
+
+    /// A scene is loaded and (x, y) is inside its image.
+    fn check_pixel(&self, x: u32, y: u32) -> Result<(), PpError> {
+        let loaded = self.scene.ok_or(PpError::NoScene)?;
+        if x >= loaded.width || y >= loaded.height {
+            return Err(PpError::OutsideImage {
+                x,
+                y,
+                width: loaded.width,
+                height: loaded.height,
+            });
+        }
+        Ok(())
+    }
+
+    /// Runs `pixels` of the loaded scene through the bare clock loop
+    /// (`harness/cpp/bare.h`: one FFI call, nothing read but ready and
+    /// done) and returns the sum of their cycles: the baseline the
+    /// harness's overhead is measured against (`benches/overhead.rs`).
+    pub fn run_bare(&mut self, pixels: &[(u32, u32)]) -> Result<u64, PpError> {
+        if self.poisoned {
+            return Err(PpError::Poisoned);
+        }
+        let mut coords = Vec::with_capacity(pixels.len());
+        for &(x, y) in pixels {
+            self.check_pixel(x, y)?;
+            coords.push(x | y << 16);
+        }
+        self.poisoned = true;
+        let cycles = self
+            .inner
+            .pin_mut()
+            .run_bare(&coords, self.timeout_cycles)
+            .map_err(|e| PpError::Model {
+                pixel: None,
+                message: e.what().to_string(),
+            })?;
+        self.poisoned = false;
+        Ok(cycles)
     }
 }

@@ -368,8 +368,18 @@ fn colours_over_1_are_warned_about_unless_the_scene_sets_an_exposure() {
 /// names the processor.
 #[test]
 fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_cosim-top");
+    let _ = std::fs::remove_dir_all(&dir);
     let out = rtcosim(&[
-        "cosim", "--size", "40x30", "--window", "0,0,39,7", "--procs", "4",
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "0,0,39,7",
+        "--procs",
+        "4",
+        "--out",
+        dir.to_str().expect("UTF-8"),
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", both(&out));
     let stdout = text(&out.stdout);
@@ -386,6 +396,36 @@ fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
         "{stdout}"
     );
     assert!(stdout.contains("% dispatcher idle"), "{stdout}");
+    // report.json carries the same top figures and the throughput.
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("report.json")).expect("report.json"),
+    )
+    .expect("valid JSON");
+    assert_eq!(json["top"]["processors"], 4, "{json}");
+    assert_eq!(json["top"]["frame_cycles"], frame, "{json}");
+    assert_eq!(json["top"]["pixel_cycles"], rtl_cycles, "{json}");
+    let idle = json["top"]["dispatcher_idle_share"]
+        .as_f64()
+        .expect("idle share");
+    let idle_text = stdout
+        .split(" frame cycles (first coordinate in to last result out), ")
+        .nth(1)
+        .and_then(|rest| rest.split('%').next())
+        .and_then(|p| p.parse::<f64>().ok())
+        .expect("the idle share in the text");
+    assert!(
+        (100.0 * idle - idle_text).abs() <= 0.05,
+        "{idle} vs {idle_text}%"
+    );
+    let pixels_per_second = json["throughput"]["pixels_per_second"]
+        .as_f64()
+        .expect("throughput");
+    let seconds = json["seconds"].as_f64().expect("seconds");
+    assert!(
+        (pixels_per_second * seconds - 320.0).abs() < 1e-6 * 320.0,
+        "{json}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 
     let out = rtcosim(&[
         "cosim",

@@ -503,3 +503,69 @@ fn the_top_with_two_processors_agrees_under_icarus() {
     );
     assert!(diff.is_empty(), "{}", diff.join("\n"));
 }
+
+/// The speed ratio of the two simulators (docs/perf.md, "Icarus against
+/// Verilator"): the same pixels of the 80x60 reference frame on one thread,
+/// under Icarus (one `vvp`, after compiling) and through the verilated
+/// model's driver (after building and loading it). Both must agree with
+/// golden on every pixel and so run the same RTL cycles; the test asserts
+/// that and prints the times.
+#[test]
+#[ignore = "times Icarus against Verilator on 600 pixels: a minute"]
+fn icarus_speed_against_verilator() {
+    if !icarus_present("icarus_speed_against_verilator") {
+        return;
+    }
+    let scene = reduced("reference");
+    // Every pixel of every 8th row: 600 pixels, the whole range of paths.
+    let pixels: Vec<(u32, u32)> = (0..scene.camera.height)
+        .step_by(8)
+        .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
+        .collect();
+    let dir = work_dir("speed");
+    let vvp = compile(&dir, "pp_tb", scene.render.recip, scene.render.sqrt, &[]);
+    let scene_file = write_scene_hex(&dir, &scene);
+    let n_writes = scene_hex(&scene).1;
+    let start = std::time::Instant::now();
+    let got = run_vvp(
+        &vvp,
+        &scene_file,
+        n_writes,
+        &dir.join("pixels.hex"),
+        &pixels,
+    );
+    let icarus = start.elapsed().as_secs_f64();
+    let diff = differences(&scene, &got);
+    assert!(diff.is_empty(), "{}", diff.join("\n"));
+    let icarus_cycles: u64 = got.iter().map(|p| p.cycles).sum();
+
+    let mut rtl = rtcosim::pixel_proc::PixelProcessor::new(scene.render.recip, scene.render.sqrt)
+        .expect("the verilated model");
+    rtl.load_scene(&scene).expect("loading the scene");
+    let start = std::time::Instant::now();
+    let mut verilator_cycles = 0;
+    for &(x, y) in &pixels {
+        let outcome = rtl.run_pixel(x, y, None).expect("a verilated pixel");
+        let sim = got
+            .iter()
+            .find(|p| (p.x, p.y) == (x, y))
+            .expect("the pixel under Icarus");
+        let bits = outcome.rgb.map(|c| format!("{:08x}", c.to_bits()));
+        assert_eq!(bits, sim.rgb, "pixel ({x}, {y}): Verilator against Icarus");
+        verilator_cycles += outcome.cycles;
+    }
+    let verilator = start.elapsed().as_secs_f64();
+    assert_eq!(
+        verilator_cycles, icarus_cycles,
+        "RTL cycles, Verilator against Icarus"
+    );
+    println!(
+        "reference 80x60, {} pixels, {icarus_cycles} RTL cycles, one thread: \
+         Icarus {icarus:.2} s ({:.0} cycles/s), Verilator {verilator:.3} s ({:.0} cycles/s): \
+         Verilator {:.0} times as fast",
+        pixels.len(),
+        icarus_cycles as f64 / icarus,
+        verilator_cycles as f64 / verilator,
+        icarus / verilator
+    );
+}

@@ -1,6 +1,7 @@
 // What the two drivers of the pixel processor's RTL share (pixel_proc.cpp
 // drives pixel_processor, top.cpp the top with N of them): the model with
-// its context, the clock, the reset sequence and the scene-write port.
+// its context, the clock with the waveform policy's hooks, and (from bare.h)
+// the reset sequence and the scene-write port.
 //
 // The cycle contract of both: a cycle's inputs are set, then the model is
 // evaluated with clk low (fall: the outputs are this cycle's, sampled
@@ -9,6 +10,7 @@
 
 #include <cstdint>
 
+#include "bare.h"
 #include "pp_wave.h"
 #include "verilated_owned.h"
 
@@ -41,37 +43,11 @@ protected:
         rise();
     }
 
-    // The scene port idle and rst_n low for two rising edges, then high for
-    // one; ends sampled (clk low). The driver sets its other inputs first.
-    void reset_sequence() {
-        M& m = model();
-        m.clk = 0;
-        m.rst_n = 0;
-        m.scene_we = 0;
-        m.scene_cfg = 0;
-        m.scene_addr = 0;
-        for (int i = 0; i < 3; ++i) m.scene_data[i] = 0;
-        m.eval();
-        tick();
-        tick();
-        m.rst_n = 1;
-        tick();
-        fall();
-    }
-
-    // One scene-port write, taken at the next rising edge; the driver has
-    // checked that the port is ready.
+    // rst_n and the scene port (bare.h), unseen by the waveform policy:
+    // FstWave dumps only inside a pixel.
+    void reset_sequence() { reset_model(model()); }
     void scene_write(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-        M& m = model();
-        m.scene_we = 1;
-        m.scene_cfg = cfg;
-        m.scene_addr = addr;
-        m.scene_data[0] = x;
-        m.scene_data[1] = y;
-        m.scene_data[2] = z;
-        tick();
-        m.scene_we = 0;
-        m.scene_cfg = 0;
+        write_scene_port(model(), cfg, addr, x, y, z);
     }
 
     Owned<M> owned_{W::kTraceEverOn};

@@ -28,6 +28,9 @@ public:
     // to `events` when `trace` is set.
     virtual PpRun run_pixel(std::uint16_t px, std::uint16_t py, bool trace, rust::Vec<PpEvent>& events,
                             std::uint64_t timeout_cycles) = 0;
+    // The bare clock loop of bare.h over `coords` (x | y << 16): the sum of
+    // the pixels' cycles.
+    virtual std::uint64_t run_bare(rust::Slice<const std::uint32_t> coords, std::uint64_t timeout_cycles) = 0;
     // Waveforms (pp_wave.h), only on the models new_pixel_proc_wave builds;
     // the others throw. Dumps cycles [first, last] of the pixels run next
     // into the FST file `path` (once per model); close_wave finishes it.
