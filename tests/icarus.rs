@@ -511,13 +511,13 @@ fn the_top_with_two_processors_agrees_under_icarus() {
 /// golden on every pixel and so run the same RTL cycles; the test asserts
 /// that and prints the times.
 #[test]
-#[ignore = "times Icarus against Verilator on 600 pixels: a minute"]
+#[ignore = "times Icarus against Verilator on 640 pixels: a minute"]
 fn icarus_speed_against_verilator() {
     if !icarus_present("icarus_speed_against_verilator") {
         return;
     }
     let scene = reduced("reference");
-    // Every pixel of every 8th row: 600 pixels, the whole range of paths.
+    // Every pixel of every 8th row: 640 pixels, the whole range of paths.
     let pixels: Vec<(u32, u32)> = (0..scene.camera.height)
         .step_by(8)
         .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
@@ -550,7 +550,7 @@ fn icarus_speed_against_verilator() {
             .iter()
             .find(|p| (p.x, p.y) == (x, y))
             .expect("the pixel under Icarus");
-        let bits = outcome.rgb.map(|c| format!("{:08x}", c.to_bits()));
+        let bits = outcome.rgb.map(|c| format!("{c:08x}"));
         assert_eq!(bits, sim.rgb, "pixel ({x}, {y}): Verilator against Icarus");
         verilator_cycles += outcome.cycles;
     }
