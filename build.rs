@@ -35,7 +35,7 @@
 //! four method pairs of the pixel processor are built because only the mixed
 //! ones catch RECIP_METHOD and SQRT_METHOD swapped on the way down. A
 //! release rebuild after an RTL change (every model, the traced ones, the
-//! runtime, and the Rust code of this crate) takes about 5.5 CPU minutes
+//! runtime, and the Rust code of this crate) takes 3 to 6 CPU minutes
 //! (docs/perf.md, "Build time").
 
 use std::collections::BTreeSet;
