@@ -676,3 +676,40 @@ fn kept_frames_are_the_windows_colours() {
         "only when asked"
     );
 }
+
+/// The bare clock loop (harness/cpp/bare.h, the baseline of benches/
+/// overhead.rs) runs the same RTL cycles as golden predicts for each pixel,
+/// pixel by pixel as the driver does, and refuses pixels outside the image
+/// and a model without a scene.
+#[test]
+fn the_bare_clock_loop_runs_the_predicted_cycles() {
+    let scene = builtin("mirror", 24, 18);
+    let golden = golden::micro::Processor::new(&scene);
+    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model");
+    assert!(matches!(rtl.run_bare(&[(0, 0)]), Err(PpError::NoScene)));
+    rtl.load_scene(&scene).expect("scene");
+    let pixels: Vec<(u32, u32)> = Window::full(&scene).iter().collect();
+    let want: u64 = pixels
+        .iter()
+        .map(|&(x, y)| golden.render_pixel(x, y, |_, _| {}).cycles)
+        .sum();
+    assert_eq!(rtl.run_bare(&pixels).expect("bare loop"), want);
+    // Each pixel alone, and the driver after the bare loop, agree too.
+    for &(x, y) in pixels.iter().step_by(37) {
+        let one = rtl.run_bare(&[(x, y)]).expect("one pixel");
+        assert_eq!(
+            one,
+            golden.render_pixel(x, y, |_, _| {}).cycles,
+            "({x}, {y})"
+        );
+        assert_eq!(
+            rtl.run_pixel(x, y, None).expect("driver").cycles,
+            one,
+            "({x}, {y})"
+        );
+    }
+    assert!(matches!(
+        rtl.run_bare(&[(1, 1), (24, 0)]),
+        Err(PpError::OutsideImage { x: 24, y: 0, .. })
+    ));
+}
