@@ -27,7 +27,7 @@
 //! `rtcosim_top_models.h`; its N processors are inlined, so N = 4 costs
 //! about four pixel processors of g++ time.
 //!
-//! Every model's fast code is compiled at -O2 and its slow code (Verilator's
+//! Every model's fast code is compiled at -O3 and its slow code (Verilator's
 //! `*__Slow.cpp`: constructors, the seed tables' initialisation, initial and
 //! settle evaluation, run once per model) at -O0, as Verilator's own makefile
 //! does (OPT_SLOW); the slow code is two thirds of the generated C++ (11.3 of
