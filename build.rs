@@ -53,8 +53,22 @@ struct Model<'a> {
     defines: Vec<&'static str>,
     includes: Vec<PathBuf>,
     sources: &'a [PathBuf],
-    /// Verilated with `--trace-fst` (the waveform models, [`WAVE_PREFIX`]).
-    trace: bool,
+    flavour: Flavour,
+}
+
+/// What a model is verilated for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Flavour {
+    /// The co-simulation models.
+    Plain,
+    /// With `--trace-fst` (the waveform models, [`WAVE_PREFIX`]).
+    Wave,
+    /// With Verilator's line, toggle and user (cover property) coverage and
+    /// `PP_COVER` (the controller's state and transition points), from
+    /// sources named relative to the package so that `coverage.dat` and the
+    /// lcov reports name `rtl/...` on every machine ([`COV_PREFIX`]; only
+    /// with the cargo feature `coverage`).
+    Coverage,
 }
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
@@ -106,6 +120,14 @@ fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<(u32, String, St
 /// The pixel processor variants verilated with `--trace-fst` for
 /// `harness::wave` are `<WAVE_PREFIX>_<recip>_<sqrt>`.
 const WAVE_PREFIX: &str = "Vpixel_processor_wave";
+
+/// The pixel processor variants of the coverage build (cargo feature
+/// `coverage`) are `<COV_PREFIX>_<recip>_<sqrt>`.
+const COV_PREFIX: &str = "Vpixel_processor_cov";
+
+/// The controller's possible transitions (rtl/cover/transitions.sh), from
+/// which the coverage build's cover points are made.
+const TRANSITIONS: &str = "rtl/cover/pp_ctrl.transitions";
 
 struct Verilator {
     bin: PathBuf,
@@ -178,7 +200,7 @@ fn run() -> Result<(), String> {
         defines: vec![],
         includes: vec![fp_dir.clone()],
         sources: &fp_sources,
-        trace: false,
+        flavour: Flavour::Plain,
     };
     let mut models = vec![
         unit("fp_add", "Vfp_add".into(), vec![]),
@@ -196,31 +218,60 @@ fn run() -> Result<(), String> {
     // The same again with --trace-fst, for the waveform window
     // (harness::wave): the same RTL and flags, so a divergence re-runs on
     // the variant it happened on; compiled at -O0 (see below).
+    // With the feature `coverage`, once more with Verilator's coverage and
+    // the controller's cover points (harness::coverage), compiled at -O1.
+    let coverage = env::var_os("CARGO_FEATURE_COVERAGE").is_some();
+    let mut flavours = vec![Flavour::Plain, Flavour::Wave];
+    let mut pp_cov_sources = Vec::new();
+    if coverage {
+        flavours.push(Flavour::Coverage);
+        let cover = out.join("pp_ctrl_cover.sv");
+        write_cover_module(&manifest, &cover)?;
+        pp_cov_sources = pp_sources
+            .iter()
+            .map(|p| p.strip_prefix(&manifest).unwrap_or(p).to_path_buf())
+            .chain(std::iter::once(cover))
+            .collect();
+    }
     let mut pp_variants = Vec::new();
     let mut wave_variants = Vec::new();
+    let mut cov_variants = Vec::new();
     for (recip, recip_code) in &methods {
         for (sqrt, sqrt_code) in &methods {
-            for trace in [false, true] {
-                let base = if trace {
-                    WAVE_PREFIX
-                } else {
-                    "Vpixel_processor"
+            for &flavour in &flavours {
+                let (base, variants, defines, includes, sources) = match flavour {
+                    Flavour::Plain => (
+                        "Vpixel_processor",
+                        &mut pp_variants,
+                        vec!["PP_TRACE"],
+                        vec![pp_dir.clone(), fp_dir.clone()],
+                        &pp_sources,
+                    ),
+                    Flavour::Wave => (
+                        WAVE_PREFIX,
+                        &mut wave_variants,
+                        vec!["PP_TRACE"],
+                        vec![pp_dir.clone(), fp_dir.clone()],
+                        &pp_sources,
+                    ),
+                    Flavour::Coverage => (
+                        COV_PREFIX,
+                        &mut cov_variants,
+                        vec!["PP_TRACE", "PP_COVER"],
+                        vec![PathBuf::from("rtl/pp"), PathBuf::from("rtl/fp")],
+                        &pp_cov_sources,
+                    ),
                 };
                 let prefix = format!("{base}_{recip}_{sqrt}");
-                let variants = if trace {
-                    &mut wave_variants
-                } else {
-                    &mut pp_variants
-                };
                 variants.push((prefix.clone(), *recip_code, *sqrt_code));
                 models.push(Model {
                     prefix,
                     top: "pixel_processor",
                     params: vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)],
-                    defines: vec!["PP_TRACE"],
-                    includes: vec![pp_dir.clone(), fp_dir.clone()],
-                    sources: &pp_sources,
-                    trace,
+                    defines,
+                    includes,
+                    sources,
+                    flavour,
                 });
             }
         }
@@ -234,6 +285,11 @@ fn run() -> Result<(), String> {
         &out.join("rtcosim_pp_wave_models.h"),
         "RTCOSIM_PP_WAVE_MODELS",
         &wave_variants,
+    )?;
+    write_pp_models(
+        &out.join("rtcosim_pp_cov_models.h"),
+        "RTCOSIM_PP_COV_MODELS",
+        &cov_variants,
     )?;
     // The top (rtl/top.v) with its trace ports, for the N and method pairs
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
@@ -263,7 +319,7 @@ fn run() -> Result<(), String> {
             defines: vec!["PP_TRACE"],
             includes: vec![pp_dir.clone(), fp_dir.clone()],
             sources: &top_sources,
-            trace: false,
+            flavour: Flavour::Plain,
         })
         .collect();
     models.append(&mut top_models);
@@ -298,13 +354,16 @@ fn run() -> Result<(), String> {
     let mut model_files = Vec::new();
     let mut slow_files = Vec::new();
     let mut wave_files = Vec::new();
+    let mut cov_files = Vec::new();
     let mut globals = BTreeSet::new();
     for (files, model) in results.into_iter().zip(&models) {
         for f in files? {
             if f.path.starts_with(&verilator.root) {
                 globals.insert(f.path);
-            } else if model.trace {
+            } else if model.flavour == Flavour::Wave {
                 wave_files.push(f.path);
+            } else if model.flavour == Flavour::Coverage && !f.slow {
+                cov_files.push(f.path);
             } else if f.slow {
                 slow_files.push(f.path);
             } else {
@@ -345,7 +404,9 @@ fn run() -> Result<(), String> {
             // A fatal error inside a model becomes a C++ exception, then a Rust error.
             .define("VL_USER_FATAL", None)
             .define("VL_USER_STOP", None)
-            .define("VL_USER_FINISH", None);
+            .define("VL_USER_FINISH", None)
+            // The drivers write coverage only where it was verilated.
+            .define("RTCOSIM_COVERAGE", if coverage { "1" } else { "0" });
     };
 
     // Our C++: the bridge and the drivers, with warnings on. Compiled (and so
@@ -368,6 +429,19 @@ fn run() -> Result<(), String> {
         .warnings(false)
         .cargo_warnings(false)
         .compile("rtcosim_wave_models");
+
+    // The coverage models (feature `coverage`): their counters make them
+    // slow whatever the optimizer does, and at -O3 their 20 MB of C++ per
+    // variant would double the build; -O1 is a third of its g++ time.
+    if coverage {
+        let mut cov = cc::Build::new();
+        common(&mut cov);
+        cov.files(&cov_files)
+            .opt_level(1)
+            .warnings(false)
+            .cargo_warnings(false)
+            .compile("rtcosim_cov_models");
+    }
 
     // The models' slow code (constructors, the seed tables' initialisation,
     // initial and settle evaluation) runs once per model: unoptimized, as
@@ -824,7 +898,13 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<CppFile>, String
     for define in &m.defines {
         cmd.arg(format!("-D{define}"));
     }
-    if m.trace {
+    if m.flavour == Flavour::Coverage {
+        // Relative source names (the model's sources and includes are
+        // relative to the package), so that coverage.dat says rtl/...
+        cmd.current_dir(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
+        cmd.args(["--coverage-line", "--coverage-toggle", "--coverage-user"]);
+    }
+    if m.flavour == Flavour::Wave {
         // Three levels: pixel_processor, u_ctrl and u_core with everything
         // in them, and the ports of the units below (the ALU, the register
         // file, the float units). All levels would triple the generated trace
@@ -887,4 +967,95 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<CppFile>, String
         return Err(format!("{} lists no C++ files", mk.display()));
     }
     Ok(files)
+}
+
+/// The FNV-1a 64 hash of a file, as rtl/cover/transitions.sh writes it
+/// into the transition table: a table made from another pp_ctrl.v is stale.
+fn fnv1a64(path: &Path) -> Result<String, String> {
+    use std::hash::Hasher;
+    let bytes = fs::read(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let mut h = fnv::FnvHasher::default();
+    h.write(&bytes);
+    Ok(format!("{:016x}", h.finish()))
+}
+
+/// Writes the coverage build's `pp_ctrl_cover` module (instantiated by
+/// pp_ctrl.v under `PP_COVER`): one cover property per controller state,
+/// placed by a `line directive at the state's `define in rtl/pp/isa.vh, and
+/// one per possible transition of [`TRANSITIONS`], placed at its line of
+/// that table, so that Verilator's coverage.dat and the lcov report count
+/// each state and transition on the line that names it.
+fn write_cover_module(manifest: &Path, out: &Path) -> Result<(), String> {
+    let isa = "rtl/pp/isa.vh";
+    let isa_text =
+        fs::read_to_string(manifest.join(isa)).map_err(|e| format!("reading {isa}: {e}"))?;
+    let mut states = Vec::new(); // (name, id, line)
+    for (i, line) in isa_text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let (Some("`define"), Some(name), Some(id)) = (words.next(), words.next(), words.next())
+        {
+            if let (Some(name), Ok(id)) = (name.strip_prefix("ISA_ST_"), id.parse::<u32>()) {
+                states.push((name.to_string(), id, i + 1));
+            }
+        }
+    }
+    let id_of = |name: &str| states.iter().find(|s| s.0 == name).map(|s| s.1);
+    let table = fs::read_to_string(manifest.join(TRANSITIONS))
+        .map_err(|e| format!("reading {TRANSITIONS}: {e}"))?;
+    let hash = fnv1a64(&manifest.join("rtl/pp/pp_ctrl.v"))?;
+    let stale = || {
+        format!(
+            "{TRANSITIONS} was made from another rtl/pp/pp_ctrl.v (fnv1a64 now {hash}): \
+             run rtl/cover/transitions.sh (needs yosys) and commit the new table"
+        )
+    };
+    let recorded = table
+        .lines()
+        .find_map(|l| l.strip_prefix("# pp_ctrl.v fnv1a64 "))
+        .ok_or_else(stale)?;
+    if recorded.trim() != hash {
+        return Err(stale());
+    }
+    let mut text = format!(
+        "// Generated by build.rs from {isa} and {TRANSITIONS} for the coverage\n\
+         // build (cargo feature `coverage`): the controller's state and transition\n\
+         // cover points, each placed on the line that names it.\n\
+         `default_nettype none\n\
+         module pp_ctrl_cover #(parameter integer SW = 9) (\n\
+         \x20   // pp_ctrl's own signals, toggle-counted there.\n\
+         \x20   /*verilator coverage_off*/\n\
+         \x20   input wire clk, input wire rst_n,\n\
+         \x20   input wire [SW-1:0] st_q, input wire [SW-1:0] st_d\n\
+         \x20   /*verilator coverage_on*/\n);\n"
+    );
+    for (name, id, line) in &states {
+        text += &format!(
+            "`line {line} \"{isa}\" 0\n    s_{name}: cover property (@(posedge clk) disable iff (!rst_n) st_q == {id});\n"
+        );
+    }
+    for (i, line) in table.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let bad = || {
+            format!(
+                "{TRANSITIONS}:{}: `{line}` is not two ISA state names",
+                i + 1
+            )
+        };
+        let (from, to) = line.split_once(' ').ok_or_else(bad)?;
+        let (a, b) = (
+            id_of(from.trim()).ok_or_else(bad)?,
+            id_of(to.trim()).ok_or_else(bad)?,
+        );
+        text += &format!(
+            "`line {} \"{TRANSITIONS}\" 0\n    t_{from}_to_{to}: cover property (@(posedge clk) disable iff (!rst_n) st_q == {a} && st_d == {b});\n",
+            i + 1,
+            from = from.trim(),
+            to = to.trim()
+        );
+    }
+    text += "endmodule\n`default_nettype wire\n";
+    fs::write(out, text).map_err(|e| format!("writing {}: {e}", out.display()))
 }

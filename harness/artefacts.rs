@@ -45,6 +45,9 @@ pub struct Run<'a> {
     pub scene: &'a Scene,
     pub threads: usize,
     pub seconds: f64,
+    /// The RTL coverage of the run (`cosim --coverage`), summed with the
+    /// earlier runs in its directory.
+    pub coverage: Option<&'a crate::coverage::Summary>,
 }
 
 impl Run<'_> {
@@ -148,6 +151,14 @@ pub fn to_json(run: &Run, report: &CosimReport) -> serde_json::Value {
         })),
         "passed": report.passed(),
         "compare": report.compare.to_json(),
+        "coverage": run.coverage.map(|c| {
+            let all = c.to_json();
+            json!({
+                "kinds": all["kinds"],
+                "states_missed": all["states_missed"],
+                "transitions_missed": all["transitions_missed"],
+            })
+        }),
     })
 }
 
@@ -236,6 +247,25 @@ pub fn to_markdown(run: &Run, report: &CosimReport) -> String {
             md,
             "\n## First divergence\n\n```\n{}\n```",
             d.text(&report.compare.labels)
+        );
+    }
+    if let Some(c) = run.coverage {
+        let _ = writeln!(md, "\n## RTL coverage\n\n| kind | points hit |\n|---|---|");
+        for (k, v) in &c.kinds {
+            let _ = writeln!(
+                md,
+                "| {} | {}/{} ({:.1}%) |",
+                k.name(),
+                v.hit,
+                v.total,
+                v.percent()
+            );
+        }
+        let _ = writeln!(
+            md,
+            "\nnever taken: {} states, {} transitions (summary.md in the coverage directory lists them)",
+            c.states_missed.len(),
+            c.transitions_missed.len()
         );
     }
     if report.frames.is_some() {

@@ -164,6 +164,10 @@ pub(crate) mod ffi {
         fn new_pixel_proc_wave(recip_method: u32, sqrt_method: u32)
             -> Result<UniquePtr<PixelProc>>;
 
+        /// The same variant verilated with coverage (cargo feature
+        /// `coverage`); fails if that pair was not built.
+        fn new_pixel_proc_cov(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<PixelProc>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless ready is then high.
         fn reset(self: Pin<&mut PixelProc>) -> Result<()>;
@@ -218,6 +222,10 @@ pub(crate) mod ffi {
         /// Appends the cycle of each trace event of the last pixel (on a
         /// `new_pixel_proc_wave` model; nothing on the others).
         fn event_cycles(self: &PixelProc, out: &mut Vec<u64>);
+
+        /// Writes the model's coverage counts to `path` in Verilator's
+        /// coverage.dat format; fails on a model built without coverage.
+        fn write_coverage(self: Pin<&mut PixelProc>, path: &str) -> Result<()>;
     }
 
     unsafe extern "C++" {

@@ -13,6 +13,9 @@
 //!   outcomes per pixel, whatever produced them; verdicts and reports.
 //! - [`cosim`]: the live run of the pixel processor (or the top) against the
 //!   golden micro-op model, event by event, cycle for cycle, streaming.
+//! - [`coverage`]: what the runs exercised of the RTL: the coverage models
+//!   (cargo feature `coverage`), their counts merged into Verilator's
+//!   coverage.dat, lcov, HTML and a summary.
 //! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
@@ -33,6 +36,7 @@ pub mod artefacts;
 mod bridge;
 pub mod compare;
 pub mod cosim;
+pub mod coverage;
 pub mod fp_check;
 pub mod fp_unit;
 pub mod fuzz;

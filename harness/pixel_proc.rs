@@ -36,6 +36,7 @@ use golden::micro::loader::{self, Config};
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
+use std::path::PathBuf;
 
 pub use golden::micro::fault::{parse_number, Fault};
 
@@ -201,13 +202,24 @@ pub struct PixelProcessor {
     timeout_cycles: u64,
     poisoned: bool,
     scratch: Vec<ffi::PpEvent>,
+    /// A coverage model's directory ([`crate::coverage`]): its counts are
+    /// written there when it is dropped.
+    coverage: Option<PathBuf>,
 }
 
 impl PixelProcessor {
     /// Builds and resets the variant verilated with `RECIP_METHOD = recip`
-    /// and `SQRT_METHOD = sqrt`.
+    /// and `SQRT_METHOD = sqrt`: its coverage model when coverage is on in
+    /// this process ([`crate::coverage::dir`]).
     pub fn new(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
-        Self::build(recip, sqrt, ffi::new_pixel_proc)
+        match crate::coverage::dir() {
+            None => Self::build(recip, sqrt, ffi::new_pixel_proc),
+            Some(dir) => {
+                let mut pp = Self::build(recip, sqrt, ffi::new_pixel_proc_cov)?;
+                pp.coverage = Some(dir);
+                Ok(pp)
+            }
+        }
     }
 
     /// The same variant verilated with `--trace-fst`, for [`crate::wave`].
@@ -239,6 +251,7 @@ impl PixelProcessor {
             timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
             poisoned: false,
             scratch: Vec::new(),
+            coverage: None,
         })
     }
 
@@ -422,5 +435,28 @@ impl PixelProcessor {
             })?;
         self.poisoned = false;
         Ok(cycles)
+    }
+}
+
+impl Drop for PixelProcessor {
+    /// A coverage model writes its counts into its directory's `raw/`; a
+    /// failure cannot be returned from here, so it is reported on stderr.
+    fn drop(&mut self) {
+        let Some(dir) = self.coverage.take() else {
+            return;
+        };
+        let path = crate::coverage::raw_file(&dir);
+        let written = path
+            .to_str()
+            .ok_or_else(|| "the path is not UTF-8".to_string())
+            .and_then(|p| {
+                self.inner
+                    .pin_mut()
+                    .write_coverage(p)
+                    .map_err(|e| e.what().to_string())
+            });
+        if let Err(e) = written {
+            eprintln!("rtcosim: coverage counts lost, {}: {e}", path.display());
+        }
     }
 }

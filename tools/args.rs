@@ -196,3 +196,44 @@ impl ShardArgs {
         Ok(Shard::resolve(self.shard, self.shard_count)?)
     }
 }
+
+/// Coverage of the RTL over this run (a build with the cargo feature
+/// `coverage`).
+#[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
+pub struct CoverageArgs {
+    /// Measure what the run exercises of the RTL (line, branch and toggle
+    /// points, controller states and transitions) on the coverage models,
+    /// and write it into DIR (created if missing): each model's counts in
+    /// DIR/raw/, summed with earlier runs' into coverage.dat, coverage.info
+    /// (lcov), html/ (with genhtml), summary.json and summary.md. Needs a
+    /// build with `--features coverage`; the coverage models run slower.
+    #[arg(long, value_name = "DIR")]
+    pub coverage: Option<std::path::PathBuf>,
+}
+
+impl CoverageArgs {
+    /// Switches the coverage models on for this process, before any model
+    /// is built.
+    pub fn enable(&self) -> Result<()> {
+        if let Some(dir) = &self.coverage {
+            rtcosim::coverage::enable(dir)
+                .with_context(|| format!("--coverage {}", dir.display()))?;
+        }
+        Ok(())
+    }
+
+    /// After the run: the counts in DIR merged and reported (a line of
+    /// figures, the files written); `None` without --coverage.
+    pub fn finish(
+        &self,
+        out: &mut impl std::io::Write,
+    ) -> Result<Option<rtcosim::coverage::Summary>> {
+        let Some(dir) = &self.coverage else {
+            return Ok(None);
+        };
+        let done = rtcosim::coverage::finish(std::slice::from_ref(dir), dir, true)
+            .with_context(|| format!("--coverage {}", dir.display()))?;
+        write!(out, "{}", done.report())?;
+        Ok(Some(done.summary))
+    }
+}

@@ -2,7 +2,8 @@
 //! them, `--procs`) against golden::micro.
 
 use crate::args::{
-    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, SceneArgs, ThreadsArgs,
+    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, CoverageArgs,
+    SceneArgs, ThreadsArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::{Context, Result};
@@ -78,6 +79,8 @@ pub struct CosimArgs {
     pub trace_window: Option<Window>,
     #[command(flatten)]
     pub wave: crate::wave::WaveArgs,
+    #[command(flatten)]
+    pub coverage: CoverageArgs,
 }
 
 /// Returns whether the RTL agreed with golden everywhere.
@@ -90,6 +93,13 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         check_window("--trace-window", trace_window, &scene)?;
         check_parent_dir("--trace", path)?;
     }
+    if args.coverage.coverage.is_some() && args.procs.is_some() {
+        anyhow::bail!(
+            "--coverage measures the pixel processor run bare; --procs drives the top, \
+             which has no coverage model: drop one of them"
+        );
+    }
+    args.coverage.enable()?;
     // Fail before a long run, not after it.
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
@@ -177,12 +187,14 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     {
         writeln!(out, "{warning}")?;
     }
+    let coverage = args.coverage.finish(&mut out)?;
     if let Some(dir) = &args.out {
         let run = artefacts::Run {
             scene_name: &args.scene.scene,
             scene: &scene,
             threads,
             seconds,
+            coverage: coverage.as_ref(),
         };
         let written = artefacts::write(dir, &run, &report).context("--out")?;
         let names: Vec<String> = written

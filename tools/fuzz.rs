@@ -1,7 +1,7 @@
 //! `rtcosim fuzz`: random scenes, each refused at load or co-simulated with
 //! 0 divergences and finite colours.
 
-use crate::args::{parse_cycles, parse_fault, ShardArgs, ThreadsArgs};
+use crate::args::{parse_cycles, parse_fault, CoverageArgs, ShardArgs, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
@@ -44,6 +44,8 @@ pub struct FuzzArgs {
     /// Cycles a pixel may take before the RTL counts as hung.
     #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
     pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub coverage: CoverageArgs,
 }
 
 /// Returns whether every scene kept the promise (a shard's, its scenes).
@@ -55,6 +57,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
     }
+    args.coverage.enable()?;
     let campaign = Campaign {
         seed: args.seed,
         first: args.first,
@@ -118,6 +121,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         }
         _ => finish(&mut out, &summary, args.out.as_deref())?,
     }
+    args.coverage.finish(&mut out)?;
     writeln!(
         out,
         "{} scenes in {seconds:.1} s ({:.1} scenes/s)",

@@ -6,6 +6,7 @@
 
 mod args;
 mod cosim;
+mod coverage;
 mod diffmap;
 mod exit;
 mod fp_check;
@@ -38,6 +39,12 @@ enum Command {
     /// pixel's colour and cycle count is compared. Exits 0 when everything
     /// agrees, 1 on any divergence, 2 on an error (a hung RTL is one).
     Cosim(cosim::CosimArgs),
+    /// Merge the RTL coverage of several runs or shards (`cosim --coverage`,
+    /// `fuzz --coverage`, `RTCOSIM_COVERAGE=DIR cargo test --features
+    /// coverage`) into one report: coverage.dat, lcov, HTML and a summary
+    /// naming every state and transition never taken. Exits 0 when written,
+    /// 2 on an error.
+    Coverage(coverage::CoverageArgs),
     /// Where two renders differ: heat maps (ULPs, 0..255 scale), the
     /// thesis' masks at thresholds (figure 17) and its table of differences.
     ///
@@ -84,6 +91,7 @@ enum Command {
 fn main() -> ExitCode {
     exit::status(match Cli::parse().command {
         Command::Cosim(args) => cosim::run(args),
+        Command::Coverage(args) => coverage::run(args),
         Command::Diffmap(args) => diffmap::run(args).map(|()| true),
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),

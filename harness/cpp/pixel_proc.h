@@ -38,6 +38,10 @@ public:
     virtual void close_wave() = 0;
     // The cycle of each trace event of the last pixel, in order.
     virtual void event_cycles(rust::Vec<std::uint64_t>& out) const = 0;
+    // Writes the model's coverage counts (Verilator's coverage.dat format)
+    // to `path`: only on the models new_pixel_proc_cov builds; the others
+    // throw.
+    virtual void write_coverage(rust::Str path) = 0;
 };
 
 // Builds and resets the variant verilated with these method codes
@@ -45,5 +49,7 @@ public:
 std::unique_ptr<PixelProc> new_pixel_proc(std::uint32_t recip_method, std::uint32_t sqrt_method);
 // The same variant verilated with --trace-fst (the waveform window).
 std::unique_ptr<PixelProc> new_pixel_proc_wave(std::uint32_t recip_method, std::uint32_t sqrt_method);
+// The same variant verilated with coverage (cargo feature `coverage`).
+std::unique_ptr<PixelProc> new_pixel_proc_cov(std::uint32_t recip_method, std::uint32_t sqrt_method);
 
 }  // namespace rtcosim

@@ -1058,5 +1058,14 @@ module pp_ctrl (
         endcase
     end
 
+`ifdef PP_COVER
+    // ------------------------------------------------------------------------
+    // Coverage build only (cargo feature `coverage`, never for synthesis):
+    // a cover point per state and per possible transition, made by build.rs
+    // from rtl/cover/pp_ctrl.transitions (Yosys SAT, rtl/cover/transitions.sh).
+    // ------------------------------------------------------------------------
+    pp_ctrl_cover #(.SW(SW)) u_cover (.clk(clk), .rst_n(rst_n), .st_q(st_q), .st_d(st_d));
+`endif
+
 endmodule
 `default_nettype wire
