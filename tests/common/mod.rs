@@ -122,3 +122,17 @@ pub fn scratch(krate: &str, test: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("creating the scratch directory");
     dir
 }
+
+/// Runs `rtcosim` with `args` and checks that it refuses them as a bad
+/// request: exit status 2, every one of `messages` on stderr, no panic, and
+/// nothing on stdout (refused before any work).
+pub fn assert_refused(args: &[&str], messages: &[&str]) {
+    let out = rtcosim(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", both(&out));
+    let stderr = text(&out.stderr);
+    for m in messages {
+        assert!(stderr.contains(m), "{args:?}: {m:?} in\n{stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert!(out.stdout.is_empty(), "{args:?}: {}", both(&out));
+}
