@@ -288,12 +288,21 @@ mod tests {
             row(101, 4, Exact, Exact, 1.0 / 16.0),
             row(101, 4, Exact, Exact, 0.0),
         ];
+        let labels = |rows: &[Row]| -> Vec<String> {
+            rows.iter()
+                .map(|r| format!("{} cycles, {}", r.frame_cycles, r.config().label()))
+                .collect()
+        };
         for rotation in 0..cheapest_first.len() {
             let mut rows = cheapest_first.to_vec();
             rows.rotate_left(rotation);
             rows.reverse();
             rows.sort_by(cost_order);
-            assert_eq!(rows, cheapest_first, "rotated by {rotation}");
+            assert_eq!(
+                labels(&rows),
+                labels(&cheapest_first),
+                "rotated by {rotation}"
+            );
         }
         // Fast before exact: the opposite of the RTL's codes (0 exact, 1
         // fast), which an order on the codes would follow.
