@@ -32,6 +32,15 @@ pub enum AreaError {
     Failed { what: String, stderr: String },
     #[error("yosys printed no {0:?} line")]
     Parse(&'static str),
+    #[error(
+        "cannot write the area cache {} (set {CACHE_ENV} to keep it elsewhere): {source}",
+        path.display()
+    )]
+    Cache {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
     #[error("{}: {source}", path.display())]
     Io {
         path: PathBuf,
@@ -39,6 +48,11 @@ pub enum AreaError {
         source: std::io::Error,
     },
 }
+
+/// The environment variable that moves the cache of [`Yosys::new`]
+/// elsewhere (a CI cache directory; a test's own, so that a stand-in yosys
+/// never writes figures into the real cache).
+pub const CACHE_ENV: &str = "RTCOSIM_AREA_CACHE";
 
 /// How to run yosys: the program, and where synthesized units' `stat`
 /// outputs are kept.
@@ -50,11 +64,16 @@ pub struct Yosys {
 
 impl Yosys {
     /// `yosys` from `PATH`, caching in `target/rtcosim-area/` of this
-    /// checkout (beside the Verilator that build.rs may install there).
+    /// checkout (beside the Verilator that build.rs may install there), or
+    /// in the directory [`CACHE_ENV`] names.
     pub fn new() -> Yosys {
+        let cache = std::env::var_os(CACHE_ENV)
+            .filter(|d| !d.is_empty())
+            .map(PathBuf::from)
+            .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/rtcosim-area"));
         Yosys {
             program: "yosys".into(),
-            cache: Path::new(env!("CARGO_MANIFEST_DIR")).join("target/rtcosim-area"),
+            cache,
         }
     }
 
@@ -274,10 +293,14 @@ pub fn float_unit_area(
         Err(_) => {
             let what = format!("{} with METHOD {}", unit.module(), method.name());
             let text = yosys.stat(&script, &what)?;
-            std::fs::create_dir_all(&yosys.cache).map_err(io_error(&yosys.cache))?;
+            let cache_error = |path: &Path| {
+                let path = path.to_path_buf();
+                move |source| AreaError::Cache { path, source }
+            };
+            std::fs::create_dir_all(&yosys.cache).map_err(cache_error(&yosys.cache))?;
             let tmp = cached.with_extension("tmp");
-            std::fs::write(&tmp, &text).map_err(io_error(&tmp))?;
-            std::fs::rename(&tmp, &cached).map_err(io_error(&cached))?;
+            std::fs::write(&tmp, &text).map_err(cache_error(&tmp))?;
+            std::fs::rename(&tmp, &cached).map_err(cache_error(&cached))?;
             (text, false)
         }
     };

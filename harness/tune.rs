@@ -13,10 +13,11 @@
 //! absolute channel difference on the 0..255 scale ([`Measure`]).
 //!
 //! "Cheapest" is [`cost_order`]: fewest cycles per pixel, then the smaller
-//! stack (less hardware), then the rest in a fixed order, so the answer is
-//! unique.
+//! stack (less hardware), then the fast methods (smaller units), then the
+//! larger cutoff, so the answer is unique.
 
-use crate::sweep::{self, Config, Grid, Row, SweepError, THESIS_CLOCK_HZ};
+use crate::sweep::{self, Config, Grid, Row, SweepError, ECP5_CLOCK_HZ};
+use golden::fp::Method;
 use golden::scene::{RenderSettings, Scene, Speedups};
 use std::cmp::Ordering;
 use std::fmt;
@@ -50,12 +51,20 @@ impl fmt::Display for Measure {
 }
 
 /// "Cheaper first": fewer cycles, then the smaller stack (STACK_DEPTH), then
-/// the fast methods (fewer cycles already decided the rest), then the
-/// larger cutoff; a total order on the grid.
+/// the fast reciprocal, then the fast square root (each the smaller unit:
+/// docs/accuracy.md, "Tuning", the area table), then the larger cutoff; a
+/// total order on the grid. Cycles decide almost always: the fast methods
+/// take a cycle less per operation, so the method tie-break is reached
+/// only by a scene that never divides or takes a root.
 pub fn cost_order(a: &Row, b: &Row) -> Ordering {
+    // Fast before exact, whatever the RTL's codes for them are.
+    let hardware = |m: Method| match m {
+        Method::Fast => 0u8,
+        Method::Exact => 1,
+    };
     let key = |r: &Row| {
         let c = r.config();
-        (r.frame_cycles, c.depth, c.recip.code(), c.sqrt.code())
+        (r.frame_cycles, c.depth, hardware(c.recip), hardware(c.sqrt))
     };
     key(a)
         .cmp(&key(b))
@@ -190,7 +199,7 @@ pub fn tune(
         scene,
         &truth,
         &Grid::tune(speedups),
-        THESIS_CLOCK_HZ,
+        ECP5_CLOCK_HZ,
         progress,
     );
     if let Some(s) = swept.skipped.first() {
@@ -226,6 +235,86 @@ mod tests {
         for e in [1e-9, 0.5, 255.0] {
             assert_eq!(check_target(e).ok(), Some(e));
         }
+    }
+
+    /// A row that differs only in what `cost_order` reads; the rest is
+    /// the same placeholder everywhere.
+    fn row(frame_cycles: u64, depth: u32, recip: Method, sqrt: Method, cutoff: f32) -> Row {
+        Row {
+            scene: "s".into(),
+            width: 1,
+            height: 1,
+            recip: recip.name(),
+            sqrt: sqrt.name(),
+            depth,
+            bounding_box: false,
+            fast_plane: false,
+            shadow_shortcut: false,
+            weight_cutoff: cutoff,
+            cycles_per_pixel: frame_cycles as f64,
+            max_cycles: frame_cycles,
+            frame_cycles,
+            fps_at_clock_mhz: 1.0,
+            clock_mhz: 1.0,
+            mean_abs_error: 0.0,
+            max_abs_error: 0.0,
+            share_pixels_over_half: 0.0,
+            max_ulps: 0,
+            nan_mismatches: 0,
+            rtl_stack_depth: depth,
+            rtl_recip_method: recip.code(),
+            rtl_sqrt_method: sqrt.code(),
+            pareto: false,
+            differs_from_full: None,
+            rtl_pixels: None,
+            rtl_confirmed: None,
+        }
+    }
+
+    /// The documented rule (docs/accuracy.md, "Tuning"): fewest cycles,
+    /// then the smaller STACK_DEPTH, then the fast methods (recip before
+    /// sqrt), then the larger cutoff. Each pair below ties on every key
+    /// before the one it tests; the list is in the documented order and
+    /// is shuffled before sorting.
+    #[test]
+    fn cost_order_is_the_documented_tie_break() {
+        use Method::{Exact, Fast};
+        let cheapest_first = [
+            row(100, 8, Exact, Exact, 0.0),       // fewer cycles beat everything
+            row(101, 3, Exact, Exact, 0.0),       // then the smaller stack
+            row(101, 4, Fast, Exact, 0.0),        // then the fast reciprocal
+            row(101, 4, Exact, Fast, 1.0 / 4.0),  // then the fast square root
+            row(101, 4, Exact, Exact, 1.0 / 2.0), // then the larger cutoff
+            row(101, 4, Exact, Exact, 1.0 / 16.0),
+            row(101, 4, Exact, Exact, 0.0),
+        ];
+        let labels = |rows: &[Row]| -> Vec<String> {
+            rows.iter()
+                .map(|r| format!("{} cycles, {}", r.frame_cycles, r.config().label()))
+                .collect()
+        };
+        for rotation in 0..cheapest_first.len() {
+            let mut rows = cheapest_first.to_vec();
+            rows.rotate_left(rotation);
+            rows.reverse();
+            rows.sort_by(cost_order);
+            assert_eq!(
+                labels(&rows),
+                labels(&cheapest_first),
+                "rotated by {rotation}"
+            );
+        }
+        // Fast before exact: the opposite of the RTL's codes (0 exact, 1
+        // fast), which an order on the codes would follow.
+        assert!(Exact.code() < Fast.code());
+        assert_eq!(
+            cost_order(&row(7, 2, Fast, Fast, 0.0), &row(7, 2, Exact, Fast, 0.0)),
+            Ordering::Less
+        );
+        assert_eq!(
+            cost_order(&row(7, 2, Fast, Fast, 0.0), &row(7, 2, Fast, Exact, 0.0)),
+            Ordering::Less
+        );
     }
 
     #[test]

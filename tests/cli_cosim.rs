@@ -4,6 +4,8 @@
 //! problem. State names other than PRI_HALF and cycle numbers are not
 //! written down here: the ISA and the cycle rule change under the tests.
 
+mod common;
+
 use std::process::{Command, Output};
 
 fn rtcosim(args: &[&str]) -> Output {
@@ -464,4 +466,122 @@ fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
     let out = rtcosim(&["cosim", "--size", "40x30", "--procs", "3"]);
     assert_eq!(out.status.code(), Some(2), "{}", both(&out));
     assert!(text(&out.stderr).contains("3 processors"), "{}", both(&out));
+}
+
+/// The cycles golden::micro predicts for the pixels of `window` (x0, y0,
+/// x1, y1 inclusive) of the reference scene at 40x30.
+fn golden_cycles(x0: u32, y0: u32, x1: u32, y1: u32) -> u64 {
+    let scene = golden::scene::Scene::builtin("reference")
+        .expect("builtin")
+        .resized(40, 30, "reference")
+        .expect("valid");
+    let p = golden::micro::Processor::new(&scene);
+    (y0..=y1)
+        .flat_map(|y| (x0..=x1).map(move |x| (x, y)))
+        .map(|(x, y)| p.render_pixel(x, y, |_, _| {}).cycles)
+        .sum()
+}
+
+/// `--stall P` through the top with 4 processors: out_ready is low in P% of
+/// the cycles, so every one of the N results, each taking a cycle of its
+/// own with out_ready high, waits for the 1% of cycles that have it at
+/// P = 99: the frame takes about 100 N cycles (standard deviation about
+/// 10 sqrt(N) x 10), where without backpressure it takes about a quarter
+/// of the pixels' cycles (about 40 N). Every pixel still agrees with
+/// golden, events, colour and cycles, and the pixels' own cycles are
+/// golden's with or without the stall.
+#[test]
+fn stall_holds_the_result_stream_back_and_every_pixel_still_agrees() {
+    let (x1, y1) = (23, 15);
+    let pixels = u64::from((x1 + 1) * (y1 + 1));
+    let golden = golden_cycles(0, 0, x1, y1);
+    let window = format!("0,0,{x1},{y1}");
+    let run = |stall: &str| {
+        let out = rtcosim(&[
+            "cosim", "--size", "40x30", "--window", &window, "--procs", "4", "--stall", stall,
+        ]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "--stall {stall}: {}",
+            both(&out)
+        );
+        let stdout = text(&out.stdout);
+        assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0, "{stdout}");
+        assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+        assert_eq!(
+            number_in(&stdout, "cycles: RTL", ", golden"),
+            golden,
+            "{stdout}"
+        );
+        assert_eq!(
+            number_in(&stdout, "colour:", " pixels differ"),
+            0,
+            "{stdout}"
+        );
+        let frame = number_in(&stdout, "top: 4 processors,", " frame cycles");
+        // The idle share is 1 - (the pixels' cycles) / (4 x frame cycles).
+        let idle = stdout
+            .split(" frame cycles (first coordinate in to last result out), ")
+            .nth(1)
+            .and_then(|rest| rest.split('%').next())
+            .and_then(|p| p.parse::<f64>().ok())
+            .unwrap_or_else(|| panic!("no idle share in\n{stdout}"));
+        let want = 100.0 * (1.0 - golden as f64 / (4.0 * frame as f64));
+        assert!((idle - want).abs() <= 0.05, "{idle}% vs {want}%\n{stdout}");
+        let events = number_in(&stdout, "events:", " compared");
+        (stdout, frame, events)
+    };
+    let (free, free_frame, free_events) = run("0");
+    assert!(
+        !free.contains("held back"),
+        "no stall, no mention of one:\n{free}"
+    );
+    let (held, held_frame, held_events) = run("99");
+    assert!(
+        held.lines().next().is_some_and(|l| l.contains(
+            ", through the top with 4 processors (result stream held back 99% of cycles), "
+        )),
+        "{held}"
+    );
+    assert_eq!(held_events, free_events);
+    // Four processors: at least a quarter of the pixels' cycles.
+    assert!(4 * free_frame >= golden, "{free}");
+    // Three quarters of the expected 100 N: more than 5 standard
+    // deviations below it, and above what the frame takes without a stall.
+    let bound = 75 * pixels;
+    assert!(free_frame < bound, "{free_frame} >= {bound}\n{free}");
+    assert!(held_frame >= bound, "{held_frame} < {bound}\n{held}");
+}
+
+/// Bad --stall values: exit 2 naming the option, before anything runs.
+#[test]
+fn bad_stall_values_are_refused_with_exit_2() {
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--procs", "4", "--stall", "100"],
+            "invalid value '100' for '--stall <PERCENT>': 100 is not in 0..=99",
+        ),
+        (
+            &["--procs", "4", "--stall", "-1"],
+            "invalid value '-1' for '--stall <PERCENT>'",
+        ),
+        (
+            &["--procs", "4", "--stall", "half"],
+            "invalid value 'half' for '--stall <PERCENT>'",
+        ),
+        (
+            &["--procs", "4", "--stall", "5%"],
+            "invalid value '5%' for '--stall <PERCENT>'",
+        ),
+        (
+            &["--stall", "50"],
+            "the following required arguments were not provided:\n  --procs <N>",
+        ),
+    ];
+    for (args, message) in cases {
+        let mut all = vec!["cosim", "--size", "40x30", "--window", "0,0"];
+        all.extend(args);
+        common::assert_refused(&all, &[message]);
+    }
 }

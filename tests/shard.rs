@@ -426,7 +426,7 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
             "{} and {} are shards of different runs",
             s0.display(),
             other.display()
-        )) && e.contains("config.clock_mhz is 34.74 in the first, 50.0 in the second"),
+        )) && e.contains("config.clock_mhz is 8.94 in the first, 50.0 in the second"),
         "{e}"
     );
 

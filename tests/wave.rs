@@ -3,8 +3,12 @@
 //! first divergent pixel is read back with an independent FST reader
 //! (`fst-reader`) and checked against what the co-simulation reported and
 //! against the FST's own signals, not against numbers the wave module
-//! computes.
+//! computes. The command line (`--wave`, `--wave-out`) is run as the built
+//! binary and its window held to golden's own trace of the pixel.
 
+mod common;
+
+use common::{arg, assert_refused, both, rtcosim, text};
 use fst_reader::{FstFilter, FstHierarchyEntry, FstReader, FstSignalValue};
 use golden::micro::isa;
 use golden::scene::Scene;
@@ -133,6 +137,12 @@ impl Fst {
 
     /// The value of `name` at `time`, as a number.
     fn value_at(&self, name: &str, time: u64) -> u64 {
+        let wide = self.wide_value_at(name, time);
+        u64::try_from(wide).unwrap_or_else(|_| panic!("{name} = {wide:#x} at {time}"))
+    }
+
+    /// The value of `name` (up to 128 bits wide) at `time`.
+    fn wide_value_at(&self, name: &str, time: u64) -> u128 {
         let (index, _) = self.signal(name);
         let changes = &self.changes[&index];
         let (_, bits) = changes
@@ -140,7 +150,7 @@ impl Fst {
             .rev()
             .find(|(t, _)| *t <= time)
             .unwrap_or_else(|| panic!("{name} has no value at time {time}"));
-        u64::from_str_radix(bits, 2).unwrap_or_else(|_| panic!("{name} = {bits:?} at {time}"))
+        u128::from_str_radix(bits, 2).unwrap_or_else(|_| panic!("{name} = {bits:?} at {time}"))
     }
 
     /// The times at which `name` changes to a new value.
@@ -368,4 +378,207 @@ fn gtkwave_shows_the_state_names() {
     let marker: u64 = line("MARKER ").parse().expect("a time");
     assert_eq!(marker, w.divergence_cycle * 1000 + 500, "{text}");
     assert_eq!(line("STATE "), "SH_POINT", "{text}");
+}
+
+/// `rtcosim cosim --fault SH_POINT:0x400 --wave K --wave-out PATH`, run as
+/// the built binary on a window of the 40x30 reference frame: the FST goes
+/// where --wave-out says, with its companions beside it; the first
+/// divergent pixel is the window's first (in row order) whose golden trace
+/// has a write in SH_POINT; with K past both ends the file is that whole
+/// pixel, and its trace port shows golden's events up to the divergence,
+/// where lane x carries the fault's XOR; with K = 3 it is the 7 cycles
+/// around that write.
+#[test]
+fn cosim_wave_writes_the_window_where_wave_out_says() {
+    let scene = small_reference();
+    let fault: Fault = "SH_POINT:0x400".parse().expect("a fault");
+    let window = Window::new(0, 13, 40, 2);
+    // Golden's account: the first pixel that writes in SH_POINT, its
+    // events and cycles.
+    let (x, y, events, cycles) = window
+        .iter()
+        .find_map(|(x, y)| {
+            let mut events = Vec::new();
+            let r = golden::micro::render_pixel(&scene, x, y, |e, _| events.push(*e));
+            events
+                .iter()
+                .any(|e| e.state == fault.state)
+                .then_some((x, y, events, r.cycles))
+        })
+        .expect("a pixel of the window reaches SH_POINT");
+    let seq = events
+        .iter()
+        .position(|e| e.state == fault.state)
+        .expect("an SH_POINT write");
+    let dir = scratch("cli");
+    let cosim = |k: &str, path: &Path| {
+        rtcosim(&[
+            "cosim",
+            "--size",
+            "40x30",
+            "--window",
+            "0,13,39,14",
+            "--fault",
+            "SH_POINT:0x400",
+            "--threads",
+            "2",
+            "--wave",
+            k,
+            "--wave-out",
+            arg(path),
+        ])
+    };
+
+    // K past both ends (the largest there is): the whole pixel.
+    let whole = dir.join("whole.fst");
+    let out = cosim(&u64::MAX.to_string(), &whole);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains(&format!("first divergence: pixel ({x}, {y}) event #{seq} ")),
+        "{stdout}"
+    );
+    let fst = Fst::read(&whole);
+    assert_eq!((fst.start, fst.end), (0, (cycles + 1) * 1000), "{stdout}");
+    assert_eq!(fst.value_at("px", 500), u64::from(x));
+    assert_eq!(fst.value_at("py", 500), u64::from(y));
+    let writes: Vec<u64> = sample_points(&fst)
+        .into_iter()
+        .filter(|&t| fst.value_at("trace_valid", t) == 1)
+        .collect();
+    assert!(writes.len() > seq, "{} writes", writes.len());
+    for (i, (&t, e)) in writes.iter().zip(&events).take(seq + 1).enumerate() {
+        let value = fst.wide_value_at("trace_value", t);
+        let lanes: [u32; 3] = std::array::from_fn(|l| (value >> (32 * l)) as u32);
+        let mut want = e.values;
+        if i == seq {
+            want[0] ^= fault.xor;
+        }
+        assert_eq!(
+            (fst.value_at("trace_state", t), fst.value_at("trace_dst", t)),
+            (u64::from(e.state), u64::from(e.dst)),
+            "write #{i}"
+        );
+        assert_eq!(lanes, want, "write #{i}: lanes x, y, z");
+    }
+    let c = (writes[seq] - 500) / 1000;
+    let fst_path = std::path::absolute(&whole).expect("absolute");
+    assert!(
+        stdout.contains(&format!(
+            "\nwaveform: pixel ({x}, {y}) re-run on the traced model; cycles 0..={cycles} \
+             around the RTL's event #{seq} (SH_POINT ({})) in cycle {c} (cycle c starts at c ns) \
+             in {}\n",
+            fault.state,
+            fst_path.display()
+        )),
+        "{stdout}"
+    );
+    assert!(dir.join("whole.gtkw").is_file() && dir.join("whole-states.txt").is_file());
+
+    // K = 3, in a directory of its own: cycles c - 3 ..= c + 3.
+    assert!(c > 3 && c + 3 < cycles, "the window is not clamped");
+    let sub = dir.join("sub");
+    std::fs::create_dir_all(&sub).expect("a subdirectory");
+    let out = cosim("3", &sub.join("k3.fst"));
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    let fst = Fst::read(&sub.join("k3.fst"));
+    assert_eq!((fst.start, fst.end), ((c - 3) * 1000, (c + 4) * 1000));
+    assert_eq!(sample_points(&fst).len(), 7);
+    let at = c * 1000 + 500;
+    assert_eq!(fst.value_at("trace_valid", at), 1);
+    assert_eq!(fst.value_at("u_ctrl.st_q", at), u64::from(fault.state));
+    let mut names: Vec<String> = std::fs::read_dir(&sub)
+        .expect("listing")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["k3-states.txt", "k3.fst", "k3.gtkw"]);
+    assert!(
+        text(&out.stdout).contains(&format!("cycles {}..={} around", c - 3, c + 3)),
+        "{}",
+        both(&out)
+    );
+}
+
+/// A run that agrees writes no waveform, says so, and passes.
+#[test]
+fn cosim_wave_without_a_divergence_writes_nothing() {
+    let dir = scratch("cli-clean");
+    let fst = dir.join("w.fst");
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "5,5,8,6",
+        "--wave",
+        "4",
+        "--wave-out",
+        arg(&fst),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    assert!(
+        text(&out.stdout).contains("\n--wave 4: no divergence, so no waveform was written\n"),
+        "{}",
+        both(&out)
+    );
+    assert_eq!(std::fs::read_dir(&dir).expect("listing").count(), 0);
+}
+
+/// Bad --wave and --wave-out values: exit 2 before anything runs (nothing
+/// on stdout), the option named, no panic, no file written.
+#[test]
+fn cosim_wave_refuses_bad_values_with_exit_2() {
+    let dir = scratch("cli-bad");
+    let missing = dir.join("no-such-dir").join("w.fst");
+    let (missing, here) = (arg(&missing).to_string(), arg(&dir).to_string());
+    let fst = dir.join("w.fst");
+    let fst = arg(&fst).to_string();
+    let cases: Vec<(Vec<&str>, String)> = vec![
+        (
+            vec!["--wave", "x"],
+            "invalid value 'x' for '--wave <K>': expected a number of cycles; got \"x\"".into(),
+        ),
+        (
+            vec!["--wave", "-3"],
+            "invalid value '-3' for '--wave <K>': expected a number of cycles; got \"-3\"".into(),
+        ),
+        (
+            vec!["--wave", "18446744073709551616"],
+            "invalid value '18446744073709551616' for '--wave <K>'".into(),
+        ),
+        (
+            vec!["--wave-out", &fst],
+            "the following required arguments were not provided:\n  --wave <K>".into(),
+        ),
+        (
+            vec!["--wave", "3", "--wave-out", &missing],
+            format!(
+                "error: --wave-out {missing}: no such directory {}",
+                arg(&dir.join("no-such-dir"))
+            ),
+        ),
+        (
+            vec!["--wave", "3", "--wave-out", &here],
+            format!("error: --wave-out {here}: not a file name (expected e.g. wave.fst)"),
+        ),
+        (
+            vec!["--wave", "3", "--wave-out", &fst, "--out", &here],
+            "the argument '--wave-out <PATH>' cannot be used with '--out <DIR>'".into(),
+        ),
+    ];
+    for (args, message) in cases {
+        let mut all = vec![
+            "cosim",
+            "--size",
+            "40x30",
+            "--window",
+            "0,0",
+            "--fault",
+            "PRI_HALF:0x400",
+        ];
+        all.extend(&args);
+        assert_refused(&all, &[&message]);
+    }
+    assert_eq!(std::fs::read_dir(&dir).expect("listing").count(), 0);
 }

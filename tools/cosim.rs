@@ -38,7 +38,7 @@ pub struct CosimArgs {
     /// With --procs: hold the top's result stream back (out_ready low) in
     /// this percentage of the cycles, drawn from a seeded generator.
     #[arg(long, value_name = "PERCENT", default_value_t = 0, requires = "procs",
-          value_parser = clap::value_parser!(u32).range(0..=99))]
+          allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=99))]
     pub stall: u32,
     /// Cycles a pixel may take before the RTL counts as hung: the run stops
     /// with an error naming the pixel and the last state.
@@ -100,6 +100,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         );
     }
     args.coverage.enable()?;
+    args.wave.check(args.out.as_deref())?;
     // Fail before a long run, not after it.
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;

@@ -1,7 +1,7 @@
 //! `rtcosim fp-check`: the float units of rtl/fp against golden::fp.
 
 use crate::args::ThreadsArgs;
-use crate::ui::progress_bar;
+use crate::ui::{plural, progress_bar};
 use anyhow::Result;
 use clap::ValueEnum;
 use golden::fp::Method;
@@ -15,10 +15,10 @@ pub struct FpCheckArgs {
     #[arg(long, value_enum, value_delimiter = ',')]
     pub unit: Vec<UnitArg>,
     /// Random operands per unit.
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, default_value_t = 1_000_000, allow_negative_numbers = true)]
     pub count: u64,
     /// Seed of the random operand stream.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Sweep all 2^32 inputs of the unary units instead of random operands
     /// (binary units still get --count random operands).
@@ -63,6 +63,7 @@ pub fn run(args: FpCheckArgs) -> Result<bool> {
 
 fn check(args: &FpCheckArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
+    let threads = rayon::current_num_threads();
     let units: Vec<UnitKind> = if args.unit.is_empty() {
         UnitKind::ALL.to_vec()
     } else {
@@ -70,15 +71,16 @@ fn check(args: &FpCheckArgs) -> Result<bool> {
     };
     writeln!(
         out,
-        "rtcosim fp-check: {} units, {}, seed {}, {} threads, {}",
+        "rtcosim fp-check: {} unit{}, {}, seed {}, {threads} thread{}, {}",
         units.len(),
+        plural(units.len() as u64),
         if args.exhaustive {
             "all 2^32 inputs (unary)".to_string()
         } else {
             format!("{} random operands", args.count)
         },
         args.seed,
-        rayon::current_num_threads(),
+        plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
     writeln!(out)?;

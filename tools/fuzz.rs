@@ -17,13 +17,13 @@ use std::time::Instant;
 #[derive(clap::Args, Debug)]
 pub struct FuzzArgs {
     /// Scenes to generate.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub count: u64,
     /// Seed of the campaign: scene I of seed S is always the same file.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// The first scene index (to continue a campaign, or split it).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub first: u64,
     /// Where to write each failing scene, as seed-S-scene-I.toml (replay it
     /// with `rtcosim cosim --scene FILE`).
@@ -50,6 +50,14 @@ pub struct FuzzArgs {
 
 /// Returns whether every scene kept the promise (a shard's, its scenes).
 pub fn run(args: FuzzArgs) -> Result<bool> {
+    if args.first.checked_add(args.count).is_none() {
+        anyhow::bail!(
+            "--first {} with --count {}: the scenes would run past the last index, {}",
+            args.first,
+            args.count,
+            u64::MAX
+        );
+    }
     let shard = args.shard.resolve()?;
     if let (Some(shard), None) = (shard, &args.out) {
         anyhow::bail!("shard {shard}: a shard writes its shard file into --out DIR; give --out");

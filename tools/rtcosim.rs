@@ -106,3 +106,6 @@ fn main() -> ExitCode {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod doc_commands;

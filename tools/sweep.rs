@@ -11,7 +11,7 @@ use rtcosim::scenes::{self, Overrides};
 use rtcosim::shard::file::{self as shard_file, ShardFile};
 use rtcosim::shard::Shard;
 use rtcosim::sweep::run::{self, NamedScene, RunConfig, ShardResult};
-use rtcosim::sweep::{self, chart, Row, SceneSweep, THESIS_CLOCK_HZ};
+use rtcosim::sweep::{self, chart, Row, SceneSweep, ECP5_CLOCK_HZ};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -38,9 +38,11 @@ pub struct SweepArgs {
     /// (created if missing); a shard writes its sweep-K-of-N.shard.json.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// The clock frames per second are given at, in MHz (default: the
-    /// thesis' one-processor maximum on the Virtex-6, section 5.2).
-    #[arg(long, value_name = "MHZ", default_value_t = THESIS_CLOCK_HZ / 1e6)]
+    /// The clock the frames/s column is stated at, in MHz: one pixel
+    /// processor's frames per second at that clock. Default: our
+    /// processor's post-route clock on ECP5 (docs/rtl.md, Synthesis); the
+    /// thesis' Virtex-6 clock, which ours does not reach, is 34.74.
+    #[arg(long, value_name = "MHZ", default_value_t = ECP5_CLOCK_HZ / 1e6)]
     pub clock_mhz: f64,
     /// Random pixels each front configuration is co-simulated on, besides
     /// every pixel where it differs from the full configuration.
@@ -192,7 +194,7 @@ pub fn finish(
             bar.finish_and_clear();
         }
         all_confirmed &= s.rows.iter().all(|r| r.rtl_confirmed != Some(false));
-        print_scene(&mut stdout, s)?;
+        print_scene(&mut stdout, s, config.clock_mhz)?;
         let svg = out.join(format!("chart-{}.svg", file_stem(&s.name)));
         let png = svg.with_extension("png");
         chart::write(s, &svg, &png)?;
@@ -220,8 +222,9 @@ fn file_stem(name: &str) -> String {
         .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned())
 }
 
-/// The scene's front and its thesis configuration, as a table.
-fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
+/// The scene's front and its thesis configuration, as a table, with
+/// frames/s at `clock_mhz`.
+fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64) -> Result<()> {
     let (w, h) = (s.scene.camera.width, s.scene.camera.height);
     writeln!(
         out,
@@ -233,7 +236,13 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
     )?;
     writeln!(
         out,
-        "| depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | frames/s | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |"
+        "frames/s: one pixel processor at {clock_mhz} MHz, {}",
+        sweep::clock_source(clock_mhz)
+    )?;
+    writeln!(
+        out,
+        "| depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",
+        sweep::fps_header(clock_mhz)
     )?;
     writeln!(
         out,
@@ -261,7 +270,7 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep) -> Result<()> {
             sweep::speedup_label(r.config().speedups),
             r.weight_cutoff,
             r.cycles_per_pixel,
-            r.fps,
+            r.fps_at_clock_mhz,
             r.mean_abs_error,
             r.max_abs_error,
             100.0 * r.share_pixels_over_half,

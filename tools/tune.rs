@@ -216,7 +216,31 @@ fn rtl_parameters(out: &mut impl Write, c: &Config) -> Result<()> {
         c.speedups.fast_plane,
         c.speedups.shadow_shortcut
     )?;
+    writeln!(out, "{}", build_checked(c))?;
     Ok(())
+}
+
+/// Whether rtcosim itself builds and co-simulates the recommended RTL
+/// build, and if not, the command that lints it. build.rs verilates the
+/// pixel processor at its default `STACK_DEPTH` ([`MAX_DEPTH`]) only, once
+/// per method pair: a shallower stack is simulated there through the
+/// scene's `max_depth`, never as the build recommended.
+fn build_checked(c: &Config) -> String {
+    if c.depth == MAX_DEPTH {
+        format!(
+            "RTL build verilated and co-simulated: yes, as `rtcosim cosim --recip {} --sqrt {}` runs it (STACK_DEPTH {MAX_DEPTH}); tune itself renders only the micro-op model",
+            c.recip.name(),
+            c.sqrt.name()
+        )
+    } else {
+        format!(
+            "RTL build NOT verilated, linted or co-simulated by rtcosim: build.rs verilates STACK_DEPTH {MAX_DEPTH} only (the co-simulation runs it with max_depth = {} in the scene); lint this build with: verilator --lint-only -Wall -Irtl/fp -Irtl/pp rtl/fp/*.v rtl/pp/*.v --top-module pixel_processor -GSTACK_DEPTH={} -GRECIP_METHOD={} -GSQRT_METHOD={}",
+            c.depth,
+            c.depth,
+            c.recip.code(),
+            c.sqrt.code()
+        )
+    }
 }
 
 fn area(out: &mut impl Write, tuned: &Config) -> Result<()> {

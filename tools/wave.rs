@@ -21,11 +21,13 @@ pub struct WaveArgs {
     /// (the cycle of the RTL's divergent event, or the pixel's last cycle)
     /// to an FST file, with a GTKWave save file and a filter naming the
     /// controller states: open them with `gtkwave wave.fst wave.gtkw`.
-    #[arg(long, value_name = "K", value_parser = parse_k)]
+    #[arg(long, value_name = "K", value_parser = parse_k, allow_negative_numbers = true)]
     pub wave: Option<u64>,
     /// Where --wave writes the FST file; the save file (`.gtkw`) and the
-    /// state filter (`-states.txt`) go beside it.
-    #[arg(long, value_name = "PATH", default_value = wave::FST_NAME, requires = "wave")]
+    /// state filter (`-states.txt`) go beside it. Not with --out, whose
+    /// directory gets the window as wave.fst.
+    #[arg(long, value_name = "PATH", default_value = wave::FST_NAME, requires = "wave",
+          conflicts_with = "out")]
     pub wave_out: PathBuf,
 }
 
@@ -34,6 +36,24 @@ fn parse_k(s: &str) -> Result<u64, String> {
 }
 
 impl WaveArgs {
+    /// Fails unless --wave-out, when the window would be written there (with
+    /// --wave and no run directory), names a file in an existing directory:
+    /// before the run, not after it.
+    pub fn check(&self, dir: Option<&Path>) -> Result<()> {
+        if self.wave.is_none() || dir.is_some() {
+            return Ok(());
+        }
+        let path = &self.wave_out;
+        if path.file_name().is_none() || path.is_dir() {
+            anyhow::bail!(
+                "--wave-out {}: not a file name (expected e.g. {})",
+                path.display(),
+                wave::FST_NAME
+            );
+        }
+        crate::args::check_parent_dir("--wave-out", path)
+    }
+
     /// With --wave, writes the window of the report's first divergence (to
     /// `dir/wave.fst` when a run directory is given, else to --wave-out)
     /// and says where; without a divergence, says that none was written. A

@@ -39,11 +39,39 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// The clock frames per second are stated at: the largest frequency Xilinx
-/// ISE reported for one pixel processor on the Virtex-6 LX760, thesis
-/// section 5.2 ("1 Pixel Processor ... Maximum frequency 34.740MHz"; its
-/// 148,655,803 cycles a frame at that clock are the table's 4.279 s).
+/// The clock frames per second are stated at by default: our own pixel
+/// processor's maximum frequency after place and route, measured with
+/// nextpnr-ecp5 on an ECP5 LFE5U-85F, speed grade 6 (exact methods,
+/// `STACK_DEPTH` 8, no `PP_TRACE`; docs/rtl.md, "Synthesis", "Measured
+/// (ECP5)": `Max frequency for clock ...: 8.94 MHz`). A clock this RTL
+/// reaches, unlike [`THESIS_CLOCK_HZ`].
+pub const ECP5_CLOCK_HZ: f64 = 8.94e6;
+
+/// The thesis' clock: the largest frequency Xilinx ISE reported for *its*
+/// pixel processor on the Virtex-6 LX760, thesis section 5.2 ("1 Pixel
+/// Processor ... Maximum frequency 34.740MHz"; its 148,655,803 cycles a
+/// frame at that clock are the table's 4.279 s). Our processor does not
+/// reach it (its float units sit inside the branch cycle, docs/rtl.md);
+/// `sweep --clock-mhz 34.74` states frames/s at it for comparison.
 pub const THESIS_CLOCK_HZ: f64 = 34.740e6;
+
+/// What a frames/s figure at `clock_mhz` is: a header for tables, `frames/s
+/// at 8.94 MHz`.
+pub fn fps_header(clock_mhz: f64) -> String {
+    format!("frames/s at {clock_mhz} MHz")
+}
+
+/// Where a clock of `clock_mhz` comes from, for a report's line: the
+/// default's source, or "given with --clock-mhz".
+pub fn clock_source(clock_mhz: f64) -> &'static str {
+    if clock_mhz == ECP5_CLOCK_HZ / 1e6 {
+        "our pixel processor's post-route clock on ECP5 (docs/rtl.md, Synthesis)"
+    } else if clock_mhz == THESIS_CLOCK_HZ / 1e6 {
+        "the thesis' Virtex-6 clock, which our processor does not reach (given with --clock-mhz)"
+    } else {
+        "given with --clock-mhz"
+    }
+}
 
 /// The share of pixels reported is of those off by more than this on the
 /// 0..255 scale: the thesis' own bound (section 4.11: "a difference less
@@ -272,8 +300,10 @@ pub struct Row {
     pub max_cycles: u64,
     /// Cycles of the whole frame on one pixel processor.
     pub frame_cycles: u64,
-    /// Frames per second of one pixel processor at `clock_mhz`.
-    pub fps: f64,
+    /// Frames per second of one pixel processor at `clock_mhz` (not a
+    /// device's: one processor, no top, at the clock the run states).
+    pub fps_at_clock_mhz: f64,
+    /// The clock `fps_at_clock_mhz` is at: by default [`ECP5_CLOCK_HZ`].
     pub clock_mhz: f64,
     /// Mean |micro - reference| over every colour value, 0..255 scale.
     pub mean_abs_error: f64,
@@ -502,7 +532,7 @@ fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_
         cycles_per_pixel: stats.mean_cycles(),
         max_cycles: stats.max_cycles,
         frame_cycles: stats.cycles,
-        fps: clock_hz / stats.cycles as f64,
+        fps_at_clock_mhz: clock_hz / stats.cycles as f64,
         clock_mhz: clock_hz / 1e6,
         mean_abs_error,
         max_abs_error: table.largest.first().map_or(0.0, |l| l.value),
@@ -645,7 +675,9 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), SweepError> {
 /// and the rows.
 #[derive(Debug, Serialize)]
 struct Document<'a> {
+    /// The clock of every row's `fps_at_clock_mhz`, and where it comes from.
     clock_mhz: f64,
+    clock_source: &'static str,
     reference_depth: u32,
     visible_threshold: f64,
     scenes: Vec<SceneDocument<'a>>,
@@ -669,6 +701,7 @@ struct SkippedDocument {
 pub fn write_json(path: &Path, sweeps: &[SceneSweep], clock_hz: f64) -> Result<(), SweepError> {
     let doc = Document {
         clock_mhz: clock_hz / 1e6,
+        clock_source: clock_source(clock_hz / 1e6),
         reference_depth: MAX_DEPTH,
         visible_threshold: VISIBLE,
         scenes: sweeps
@@ -693,4 +726,21 @@ pub fn write_json(path: &Path, sweeps: &[SceneSweep], clock_hz: f64) -> Result<(
         path: path.to_path_buf(),
         source,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_per_second_say_their_clock_and_where_it_comes_from() {
+        assert_eq!(fps_header(8.94), "frames/s at 8.94 MHz");
+        assert_eq!(fps_header(34.74), "frames/s at 34.74 MHz");
+        // The constants as the command line spells them (MHz).
+        assert_eq!(fps_header(ECP5_CLOCK_HZ / 1e6), "frames/s at 8.94 MHz");
+        assert_eq!(fps_header(THESIS_CLOCK_HZ / 1e6), "frames/s at 34.74 MHz");
+        assert!(clock_source(8.94).contains("post-route clock on ECP5"));
+        assert!(clock_source(34.74).contains("does not reach"));
+        assert_eq!(clock_source(50.0), "given with --clock-mhz");
+    }
 }

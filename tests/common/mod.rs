@@ -122,3 +122,66 @@ pub fn scratch(krate: &str, test: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("creating the scratch directory");
     dir
 }
+
+/// Runs `rtcosim` with `args` and checks that it refuses them as a bad
+/// request: exit status 2, every one of `messages` on stderr, no panic, and
+/// nothing on stdout (refused before any work).
+pub fn assert_refused(args: &[&str], messages: &[&str]) {
+    let out = rtcosim(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", both(&out));
+    let stderr = text(&out.stderr);
+    for m in messages {
+        assert!(stderr.contains(m), "{args:?}: {m:?} in\n{stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert!(out.stdout.is_empty(), "{args:?}: {}", both(&out));
+}
+
+/// The text after `key` in `out` up to the next `,`, `)` or line end.
+pub fn field<'a>(out: &'a str, key: &str) -> &'a str {
+    let at = out
+        .find(key)
+        .unwrap_or_else(|| panic!("no {key:?} in\n{out}"))
+        + key.len();
+    let rest = &out[at..];
+    rest[..rest.find([',', ')', '\n']).unwrap_or(rest.len())].trim()
+}
+
+/// The configuration `rtcosim tune` picked, as its RTL build line and
+/// scene settings print it, on `scene`'s other settings.
+pub fn tune_pick(stdout: &str, scene: &Scene) -> golden::scene::RenderSettings {
+    use golden::fp::Method;
+    let method = |m: &str| match m {
+        "`FP_METHOD_EXACT" => Method::Exact,
+        "`FP_METHOD_FAST" => Method::Fast,
+        other => panic!("method {other:?}\n{stdout}"),
+    };
+    golden::scene::RenderSettings {
+        max_depth: field(stdout, ".STACK_DEPTH(").parse().expect("a depth"),
+        recip: method(field(stdout, ".RECIP_METHOD(")),
+        sqrt: method(field(stdout, ".SQRT_METHOD(")),
+        weight_cutoff: field(stdout, "weight_cutoff = ").parse().expect("a cutoff"),
+        ..scene.render
+    }
+}
+
+/// `rtcosim tune` on the mirror scene at 4x3 for a largest error of 30
+/// (depth 3 is the answer: a frame in a fraction of a second).
+pub const TUNE_MIRROR_4X3: [&str; 7] = [
+    "tune",
+    "--scene",
+    "mirror",
+    "--size",
+    "4x3",
+    "--max-error",
+    "30",
+];
+
+/// The builtin mirror scene at `w` x `h` (it meets all three speed-ups'
+/// preconditions).
+pub fn mirror(w: u32, h: u32) -> Scene {
+    Scene::builtin("mirror")
+        .expect("builtin")
+        .resized(w, h, "test")
+        .expect("valid")
+}
