@@ -27,6 +27,13 @@
 //! `rtcosim_top_models.h`; its N processors are inlined, so N = 4 costs
 //! about four pixel processors of g++ time.
 //!
+//! With the cargo feature `coverage`, each pair is verilated once more with
+//! Verilator's line, toggle and user coverage and `-DPP_COVER` (the
+//! controller's state and transition cover points, made here from
+//! `rtl/cover/pp_ctrl.transitions`), as `Vpixel_processor_cov_<recip>_<sqrt>`
+//! (listed in `rtcosim_pp_cov_models.h`, empty without the feature), for
+//! `harness::coverage`; its fast code at -O1.
+//!
 //! Every model's fast code is compiled at -O3 and its slow code (Verilator's
 //! `*__Slow.cpp`: constructors, the seed tables' initialisation, initial and
 //! settle evaluation, run once per model) at -O0, as Verilator's own makefile
@@ -239,28 +246,23 @@ fn run() -> Result<(), String> {
     for (recip, recip_code) in &methods {
         for (sqrt, sqrt_code) in &methods {
             for &flavour in &flavours {
-                let (base, variants, defines, includes, sources) = match flavour {
-                    Flavour::Plain => (
-                        "Vpixel_processor",
-                        &mut pp_variants,
-                        vec!["PP_TRACE"],
-                        vec![pp_dir.clone(), fp_dir.clone()],
-                        &pp_sources,
-                    ),
-                    Flavour::Wave => (
-                        WAVE_PREFIX,
-                        &mut wave_variants,
-                        vec!["PP_TRACE"],
-                        vec![pp_dir.clone(), fp_dir.clone()],
-                        &pp_sources,
-                    ),
-                    Flavour::Coverage => (
-                        COV_PREFIX,
-                        &mut cov_variants,
+                let (base, variants) = match flavour {
+                    Flavour::Plain => ("Vpixel_processor", &mut pp_variants),
+                    Flavour::Wave => (WAVE_PREFIX, &mut wave_variants),
+                    Flavour::Coverage => (COV_PREFIX, &mut cov_variants),
+                };
+                let (defines, includes, sources) = if flavour == Flavour::Coverage {
+                    (
                         vec!["PP_TRACE", "PP_COVER"],
                         vec![PathBuf::from("rtl/pp"), PathBuf::from("rtl/fp")],
                         &pp_cov_sources,
-                    ),
+                    )
+                } else {
+                    (
+                        vec!["PP_TRACE"],
+                        vec![pp_dir.clone(), fp_dir.clone()],
+                        &pp_sources,
+                    )
                 };
                 let prefix = format!("{base}_{recip}_{sqrt}");
                 variants.push((prefix.clone(), *recip_code, *sqrt_code));
