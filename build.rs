@@ -34,6 +34,13 @@
 //! (listed in `rtcosim_pp_cov_models.h`, empty without the feature), for
 //! `harness::coverage`; its fast code at -O1.
 //!
+//! With the cargo feature `mutation`, `rtl/mutate/mutants.sh netlist`
+//! (Yosys) writes one netlist of the pixel processor (exact methods)
+//! carrying every mutant of `rtl/mutate/pixel_processor.mutants` behind its
+//! `mutsel` port, and it is verilated as `Vpixel_processor_mut_exact_exact` (listed in
+//! `rtcosim_pp_mut_models.h`, empty without the feature), for
+//! `harness::mutation`: one build serves every mutant.
+//!
 //! Every model's fast code is compiled at -O3 and its slow code (Verilator's
 //! `*__Slow.cpp`: constructors, the seed tables' initialisation, initial and
 //! settle evaluation, run once per model) at -O0, as Verilator's own makefile
@@ -76,6 +83,9 @@ enum Flavour {
     /// lcov reports name `rtl/...` on every machine ([`COV_PREFIX`]; only
     /// with the cargo feature `coverage`).
     Coverage,
+    /// Yosys' netlist of the processor with every mutant behind `mutsel`
+    /// ([`MUT_PREFIX`]; only with the cargo feature `mutation`).
+    Mutant,
 }
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
@@ -131,6 +141,10 @@ const WAVE_PREFIX: &str = "Vpixel_processor_wave";
 /// The pixel processor variants of the coverage build (cargo feature
 /// `coverage`) are `<COV_PREFIX>_<recip>_<sqrt>`.
 const COV_PREFIX: &str = "Vpixel_processor_cov";
+
+/// The mutant model (cargo feature `mutation`) is
+/// `<MUT_PREFIX>_exact_exact`.
+const MUT_PREFIX: &str = "Vpixel_processor_mut";
 
 /// The controller's possible transitions (rtl/cover/transitions.sh), from
 /// which the coverage build's cover points are made.
@@ -227,7 +241,11 @@ fn run() -> Result<(), String> {
     // the variant it happened on; compiled at -O0 (see below).
     // With the feature `coverage`, once more with Verilator's coverage and
     // the controller's cover points (harness::coverage), compiled at -O1.
+    // With the feature `mutation`, Yosys' netlist carrying every mutant
+    // (harness::mutation): the exact pair only, the methods the mutants
+    // were listed with, baked into the netlist.
     let coverage = env::var_os("CARGO_FEATURE_COVERAGE").is_some();
+    let mutation = env::var_os("CARGO_FEATURE_MUTATION").is_some();
     let mut flavours = vec![Flavour::Plain, Flavour::Wave];
     let mut pp_cov_sources = Vec::new();
     if coverage {
@@ -240,36 +258,52 @@ fn run() -> Result<(), String> {
             .chain(std::iter::once(cover))
             .collect();
     }
+    let mut pp_mut_sources = Vec::new();
+    if mutation {
+        flavours.push(Flavour::Mutant);
+        pp_mut_sources.push(write_mutant_netlist(&manifest, &out)?);
+    }
     let mut pp_variants = Vec::new();
     let mut wave_variants = Vec::new();
     let mut cov_variants = Vec::new();
+    let mut mut_variants = Vec::new();
     for (recip, recip_code) in &methods {
         for (sqrt, sqrt_code) in &methods {
             for &flavour in &flavours {
+                if flavour == Flavour::Mutant
+                    && (recip.as_str(), sqrt.as_str()) != ("exact", "exact")
+                {
+                    continue;
+                }
                 let (base, variants) = match flavour {
                     Flavour::Plain => ("Vpixel_processor", &mut pp_variants),
                     Flavour::Wave => (WAVE_PREFIX, &mut wave_variants),
                     Flavour::Coverage => (COV_PREFIX, &mut cov_variants),
+                    Flavour::Mutant => (MUT_PREFIX, &mut mut_variants),
                 };
-                let (defines, includes, sources) = if flavour == Flavour::Coverage {
-                    (
-                        vec!["PP_TRACE", "PP_COVER"],
-                        vec![PathBuf::from("rtl/pp"), PathBuf::from("rtl/fp")],
-                        &pp_cov_sources,
-                    )
-                } else {
-                    (
+                let params = vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)];
+                let (defines, includes, sources, params) = match flavour {
+                    Flavour::Plain | Flavour::Wave => (
                         vec!["PP_TRACE"],
                         vec![pp_dir.clone(), fp_dir.clone()],
                         &pp_sources,
-                    )
+                        params,
+                    ),
+                    Flavour::Coverage => (
+                        vec!["PP_TRACE", "PP_COVER"],
+                        vec![PathBuf::from("rtl/pp"), PathBuf::from("rtl/fp")],
+                        &pp_cov_sources,
+                        params,
+                    ),
+                    // Elaborated by Yosys: defines and parameters are in.
+                    Flavour::Mutant => (vec![], vec![], &pp_mut_sources, vec![]),
                 };
                 let prefix = format!("{base}_{recip}_{sqrt}");
                 variants.push((prefix.clone(), *recip_code, *sqrt_code));
                 models.push(Model {
                     prefix,
                     top: "pixel_processor",
-                    params: vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)],
+                    params,
                     defines,
                     includes,
                     sources,
@@ -292,6 +326,11 @@ fn run() -> Result<(), String> {
         &out.join("rtcosim_pp_cov_models.h"),
         "RTCOSIM_PP_COV_MODELS",
         &cov_variants,
+    )?;
+    write_pp_models(
+        &out.join("rtcosim_pp_mut_models.h"),
+        "RTCOSIM_PP_MUT_MODELS",
+        &mut_variants,
     )?;
     // The top (rtl/top.v) with its trace ports, for the N and method pairs
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
@@ -408,7 +447,8 @@ fn run() -> Result<(), String> {
             .define("VL_USER_STOP", None)
             .define("VL_USER_FINISH", None)
             // The drivers write coverage only where it was verilated.
-            .define("RTCOSIM_COVERAGE", if coverage { "1" } else { "0" });
+            .define("RTCOSIM_COVERAGE", if coverage { "1" } else { "0" })
+            .define("RTCOSIM_MUTATION", if mutation { "1" } else { "0" });
     };
 
     // Our C++: the bridge and the drivers, with warnings on. Compiled (and so
@@ -917,6 +957,12 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<CppFile>, String
         // untraced models of the same RTL lint clean (tests/rtl_lint.rs).
         cmd.arg("-Wno-MULTIDRIVEN");
     }
+    if m.flavour == Flavour::Mutant {
+        // Yosys' netlist: widths it leaves implicit, overlapping case items
+        // of its muxes, and multi-bit wires Verilator cannot order bit by bit
+        // (it iterates them); none is a fault of the netlist.
+        cmd.args(["-Wno-WIDTH", "-Wno-CASEOVERLAP", "-Wno-UNOPTFLAT"]);
+    }
     for (name, value) in &m.params {
         cmd.arg(format!("-G{name}={value}"));
     }
@@ -1060,4 +1106,28 @@ fn write_cover_module(manifest: &Path, out: &Path) -> Result<(), String> {
     }
     text += "endmodule\n`default_nettype wire\n";
     fs::write(out, text).map_err(|e| format!("writing {}: {e}", out.display()))
+}
+
+/// Runs `rtl/mutate/mutants.sh netlist` (Yosys) into `out`: the netlist of
+/// the pixel processor with every listed mutant behind `mutsel`. The
+/// prepared design is cached under `out` (about 3 minutes to prepare).
+fn write_mutant_netlist(manifest: &Path, out: &Path) -> Result<PathBuf, String> {
+    let netlist = out.join("pp_mutants.v");
+    let script = manifest.join("rtl/mutate/mutants.sh");
+    let o = Command::new("bash")
+        .arg(&script)
+        .arg("netlist")
+        .arg(&netlist)
+        .env("MUTATE_CACHE", out.join("mutate"))
+        .output()
+        .map_err(|e| format!("running {}: {e}", script.display()))?;
+    if !o.status.success() {
+        return Err(format!(
+            "the mutation build (cargo feature `mutation`) needs Yosys and python3 \
+             (Debian: apt-get install yosys): {} netlist failed:\n{}",
+            script.display(),
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    Ok(netlist)
 }

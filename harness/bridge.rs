@@ -168,6 +168,10 @@ pub(crate) mod ffi {
         /// `coverage`); fails if that pair was not built.
         fn new_pixel_proc_cov(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<PixelProc>>;
 
+        /// The mutant netlist (cargo feature `mutation`, exact methods),
+        /// mutant 0 selected; fails if it was not built.
+        fn new_pixel_proc_mut() -> Result<UniquePtr<PixelProc>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless ready is then high.
         fn reset(self: Pin<&mut PixelProc>) -> Result<()>;
@@ -182,6 +186,10 @@ pub(crate) mod ffi {
             y: u32,
             z: u32,
         ) -> Result<()>;
+
+        /// Selects mutant `id` (0: the design as written) from the next
+        /// reset on; fails on a model that carries no mutants.
+        fn set_mutant(self: Pin<&mut PixelProc>, id: u16) -> Result<()>;
 
         /// Drives fault_state and fault_xor from now on (0 disables).
         fn set_fault(self: Pin<&mut PixelProc>, state: u16, xor_mask: u32);

@@ -40,6 +40,7 @@ pub mod coverage;
 pub mod fp_check;
 pub mod fp_unit;
 pub mod fuzz;
+pub mod mutation;
 pub mod operands;
 pub mod pixel_proc;
 pub mod rtl_source;

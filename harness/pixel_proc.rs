@@ -222,6 +222,23 @@ impl PixelProcessor {
         }
     }
 
+    /// The mutant netlist (cargo feature `mutation`; exact methods) with
+    /// mutant `id` selected (0: the design as written), for
+    /// [`crate::mutation`]. Reset it next: a mutant may fail its reset.
+    pub fn new_mutant(id: u16) -> Result<PixelProcessor, PpError> {
+        let mut pp = Self::build(Method::Exact, Method::Exact, |_, _| {
+            ffi::new_pixel_proc_mut()
+        })?;
+        pp.inner
+            .pin_mut()
+            .set_mutant(id)
+            .map_err(|e| PpError::Model {
+                pixel: None,
+                message: e.what().to_string(),
+            })?;
+        Ok(pp)
+    }
+
     /// The same variant verilated with `--trace-fst`, for [`crate::wave`].
     pub(crate) fn new_wave(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
         Self::build(recip, sqrt, ffi::new_pixel_proc_wave)

@@ -5,6 +5,7 @@ use crate::args::ThreadsArgs;
 use crate::ui::plural;
 use anyhow::{Context, Result};
 use rtcosim::fuzz::summary::{self, Summary};
+use rtcosim::mutation;
 use rtcosim::shard::file::{self as shard_file, ShardFile, ShardSet};
 use rtcosim::sweep::run::{self, RunConfig, ShardResult};
 use serde::de::DeserializeOwned;
@@ -47,8 +48,9 @@ pub fn run(args: MergeArgs) -> Result<bool> {
     match set.tool.as_str() {
         run::TOOL => merge_sweep(set, &first, &args),
         summary::TOOL => merge_fuzz(set, &first, &args),
+        mutation::TOOL => merge_mutate(set, &first, &args),
         other => anyhow::bail!(
-            "{}: a shard of {other:?}: rtcosim merges sweep and fuzz shards",
+            "{}: a shard of {other:?}: rtcosim merges sweep, fuzz and mutate shards",
             first.display()
         ),
     }
@@ -100,5 +102,42 @@ fn merge_fuzz(set: ShardSet, first: &Path, args: &MergeArgs) -> Result<bool> {
     }
     let total = total.expect("a checked set has a shard");
     crate::fuzz::finish(&mut std::io::stdout().lock(), &total, Some(&args.out))?;
+    Ok(total.passed())
+}
+
+fn merge_mutate(set: ShardSet, first: &Path, args: &MergeArgs) -> Result<bool> {
+    let campaign: mutation::Campaign = config(&set, first)?;
+    let list = mutation::List::committed()?;
+    if list.rtl_hash != campaign.rtl_hash {
+        anyhow::bail!(
+            "{}: its mutants were listed on other RTL (fnv1a64 {}, this rtcosim's list {})",
+            first.display(),
+            campaign.rtl_hash,
+            list.rtl_hash
+        );
+    }
+    let mut total: Option<mutation::Summary> = None;
+    for (path, file) in &set.files {
+        let summary: mutation::Summary = result(path, file)?;
+        if summary.outcomes.len() != file.items.len() {
+            anyhow::bail!(
+                "{}: damaged: it judged {} mutants, its shard holds {}",
+                path.display(),
+                summary.outcomes.len(),
+                file.items.len()
+            );
+        }
+        match &mut total {
+            Some(t) => t.merge(summary),
+            None => total = Some(summary),
+        }
+    }
+    let total = total.expect("a checked set has a shard");
+    crate::mutate::finish(
+        &mut std::io::stdout().lock(),
+        &total,
+        &list,
+        Some(&args.out),
+    )?;
     Ok(total.passed())
 }

@@ -12,6 +12,7 @@ mod exit;
 mod fp_check;
 mod fuzz;
 mod merge;
+mod mutate;
 mod render;
 mod sweep;
 mod trace_diff;
@@ -66,6 +67,14 @@ enum Command {
     /// shards of different runs, missing shards, duplicates and damaged
     /// files. Exits as the unsharded run would (0 passed, 1 failed, 2 error).
     Merge(merge::MergeArgs),
+    /// Mutation testing: judge mutants of the pixel processor (Yosys'
+    /// `mutate`, rtl/mutate/pixel_processor.mutants; one verilated netlist
+    /// carries them all) against golden on every builtin scene at a small
+    /// size and seeded fuzz scenes, and report the killed, the survivors
+    /// and the first check that killed each. Needs a build with `--features
+    /// mutation`. Exits 0 when every mutant was killed or proved equivalent
+    /// (--equiv), 1 otherwise, 2 on an error.
+    Mutate(mutate::MutateArgs),
     /// Render a scene to a PNG with a golden model (and, with --trace, write
     /// the micro-op model's trace of a window of pixels).
     Render(render::RenderArgs),
@@ -96,6 +105,7 @@ fn main() -> ExitCode {
         Command::FpCheck(args) => fp_check::run(args),
         Command::Fuzz(args) => fuzz::run(args),
         Command::Merge(args) => merge::run(args),
+        Command::Mutate(args) => mutate::run(args),
         Command::Render(args) => render::run(args).map(|()| true),
         Command::Sweep(args) => sweep::run(args),
         Command::TraceDump(args) => trace_dump::run(args).map(|()| true),

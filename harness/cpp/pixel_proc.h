@@ -22,6 +22,9 @@ public:
     virtual void write_scene(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) = 0;
     // Drives the fault-injection inputs from now on (xor 0 disables).
     virtual void set_fault(std::uint16_t state, std::uint32_t xor_mask) = 0;
+    // Selects mutant `id` of the mutant netlist from the next reset on (0:
+    // the design as written); the other models throw.
+    virtual void set_mutant(std::uint16_t id) = 0;
     // Runs one pixel: start at a rising edge while ready, then clock until
     // done (or a timeout, or the controller back in IDLE without done),
     // sampling the outputs before each rising edge. Appends the trace events
@@ -51,5 +54,7 @@ std::unique_ptr<PixelProc> new_pixel_proc(std::uint32_t recip_method, std::uint3
 std::unique_ptr<PixelProc> new_pixel_proc_wave(std::uint32_t recip_method, std::uint32_t sqrt_method);
 // The same variant verilated with coverage (cargo feature `coverage`).
 std::unique_ptr<PixelProc> new_pixel_proc_cov(std::uint32_t recip_method, std::uint32_t sqrt_method);
+// The mutant netlist (cargo feature `mutation`; exact methods), mutsel 0.
+std::unique_ptr<PixelProc> new_pixel_proc_mut();
 
 }  // namespace rtcosim

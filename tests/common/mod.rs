@@ -2,6 +2,8 @@
 // Each test crate uses its own part of this module.
 #![allow(dead_code)]
 
+pub mod icarus;
+
 use golden::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -66,6 +68,38 @@ pub fn mirror_with_cutoff() -> Scene {
     };
     base.with_render(render, "mirror with a cutoff")
         .expect("a cutoff in [0, 1] is valid")
+}
+
+/// Is `program` here (`program version_arg` succeeds)? If not, the test
+/// fails when the environment variable `require` is 1 (CI sets it), and
+/// otherwise says loudly that it did not run: install Debian's `package`.
+pub fn tool_present(
+    test: &str,
+    program: &str,
+    version_arg: &str,
+    require: &str,
+    package: &str,
+) -> bool {
+    let found = Command::new(program)
+        .arg(version_arg)
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if found {
+        return true;
+    }
+    let required = std::env::var(require).is_ok_and(|v| v == "1");
+    assert!(
+        !required,
+        "{test}: {program} is not on PATH and {require}=1 (apt-get install {package})"
+    );
+    // Straight to stderr: the test harness captures eprintln! of a test
+    // that passes, and this line must be seen.
+    use std::io::Write as _;
+    let _ = writeln!(
+        std::io::stderr(),
+        "\n!!!! {test} DID NOT RUN: {program} is not on PATH (apt-get install {package}). !!!!\n"
+    );
+    false
 }
 
 /// Runs a tool that must succeed without a word on stderr (a compiler or a

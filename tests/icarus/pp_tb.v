@@ -13,6 +13,7 @@
 //   +scene=FILE +writes=N  N scene-port writes, one per line, 28 hex digits:
 //                          {8'cfg, 8'addr, 96'data} (data lane x = bits 31:0)
 //   +pixels=FILE +count=M  M pixels, one per line, 8 hex digits: {16'x, 16'y}
+//   +mutsel=N              (with MUTANTS defined) the mutant of the netlist
 // Output, one line per pixel on stdout:
 //   PIX x y rgb_x rgb_y rgb_z cycles   (rgb lanes r, g, b as f32 bits, hex)
 // or `HUNG x y cycles` and the simulation stops.
@@ -41,24 +42,47 @@ module pp_tb;
     wire          ready, done;
     wire [95:0]   rgb;
 
+    `define PP_TB_PORTS \
+        .clk        (clk), \
+        .rst_n      (rst_n), \
+        .scene_we   (scene_we), \
+        .scene_cfg  (scene_cfg), \
+        .scene_addr (scene_addr), \
+        .scene_data (scene_data), \
+        .start      (start), \
+        .px         (px), \
+        .py         (py), \
+        .ready      (ready), \
+        .done       (done), \
+        .rgb        (rgb)
+`ifdef MUTANTS
+    // The netlist of rtl/mutate/mutants.sh (tests/mutation.rs): elaborated
+    // by Yosys with the exact methods and the default depth (no parameters
+    // left), with PP_TRACE's ports (the fault port held at 0) and `mutsel`,
+    // the mutant (0: none), from +mutsel=N.
+    reg [15:0] mutsel;
+    initial if (!$value$plusargs("mutsel=%d", mutsel)) mutsel = 16'd0;
+    pixel_processor dut (
+        `PP_TB_PORTS,
+        .trace_valid (),
+        .trace_state (),
+        .trace_dst   (),
+        .trace_lanes (),
+        .trace_value (),
+        .fault_state ({`ISA_DIM_ST_BITS{1'b0}}),
+        .fault_xor   (32'd0),
+        .mutsel      (mutsel)
+    );
+`else
     pixel_processor #(
         .RECIP_METHOD (RECIP_METHOD),
         .SQRT_METHOD  (SQRT_METHOD),
         .STACK_DEPTH  (STACK_DEPTH)
     ) dut (
-        .clk        (clk),
-        .rst_n      (rst_n),
-        .scene_we   (scene_we),
-        .scene_cfg  (scene_cfg),
-        .scene_addr (scene_addr),
-        .scene_data (scene_data),
-        .start      (start),
-        .px         (px),
-        .py         (py),
-        .ready      (ready),
-        .done       (done),
-        .rgb        (rgb)
+        `PP_TB_PORTS
     );
+`endif
+    `undef PP_TB_PORTS
 
     reg [111:0] writes [0:MAX_WRITES-1];
     reg [31:0]  pixels [0:MAX_PIXELS-1];
@@ -81,13 +105,16 @@ module pp_tb;
     integer      n_writes, n_pixels, i, cycles, edges;
     reg          finished, trace;
 
-    // +trace: every cycle of every pixel, for a human chasing a difference.
+`ifndef MUTANTS
+    // +trace: every cycle of every pixel, for a human chasing a difference
+    // (the RTL's hierarchy; a mutant netlist is flat).
     always @(negedge clk)
         if (trace && !ready)
             $display("  st %0d op %0d la %0d %0d %0d pa %0d %0d %0d sp %0d we %b y %h flags -%b +%b",
                      dut.u_ctrl.st_q, dut.u_ctrl.op, dut.u_ctrl.la_a, dut.u_ctrl.la_b, dut.u_ctrl.la_w,
                      dut.u_core.pa_a, dut.u_core.pa_b, dut.u_core.pa_w, dut.u_ctrl.sp, dut.u_core.alu_we,
                      dut.u_core.alu_wd, dut.u_core.y_neg, dut.u_core.y_pos);
+`endif
 
     initial begin
         if (!$value$plusargs("scene=%s", scene_file) || !$value$plusargs("writes=%d", n_writes) ||

@@ -1,0 +1,286 @@
+#!/usr/bin/env bash
+# Mutants of the pixel processor, MCY-style, with Yosys' `mutate`
+# (docs/mutation.md). Run from anywhere; paths are the checkout's.
+#
+#   rtl/mutate/mutants.sh list [COUNT [SEED]]
+#       samples COUNT mutations (default 1200, seed 1) over every module of
+#       the pixel processor with `mutate -list` and writes them, numbered
+#       from 1, to rtl/mutate/pixel_processor.mutants with the hash of the
+#       RTL they were listed on and the Yosys version.
+#   rtl/mutate/mutants.sh netlist OUT.v [ID...]
+#       writes one Verilog netlist carrying the listed mutants (all of them,
+#       or the IDs given) behind a 16-bit input port `mutsel`: mutant ID is
+#       active while mutsel == ID, and mutsel == 0 is the design as written.
+#       Every module gets the port and passes it down, so a mutant of a module
+#       is active in each of its instances, as a bug in its source would be.
+#   rtl/mutate/mutants.sh equiv ID...
+#       asks Yosys, per mutant, whether the mutated module and the original
+#       can differ in any output or next state for any inputs and any register
+#       values (equiv_make, equiv_struct, equiv_simple, equiv_induct: every
+#       flip-flop a cut point). "equivalent" is a proof that no run can tell
+#       the mutant from the design; "not-proved" says some signal stands
+#       unproven (it may differ, or only for register values no run reaches);
+#       "timeout" that the proof took more than MUTATE_EQUIV_SECONDS (120).
+#
+# The RTL is read as the harness verilates it: `PP_TRACE` defined (the trace
+# and fault ports kept), both methods exact, STACK_DEPTH the default, then
+# `prep`. The prepared design is cached in $MUTATE_CACHE (default
+# target/mutate/) under the hash of the RTL.
+#
+#   MUTATE_BLACKBOX="fp_recip fp_sqrt"  (list) makes those modules black boxes (their
+#       ports and parameters only; their RTL is compiled beside the netlist,
+#       unmutated), which skips their seed tables' three minutes of
+#       elaboration. Yosys names cells with a counter over the whole design,
+#       so a list is only good for the design it was listed on: the smoke
+#       test's list (rtl/mutate/smoke.mutants) is listed with these boxes,
+#       and its header names them for netlist and equiv.
+#   MUTATE_LIST=FILE  the list to write or read (default
+#       rtl/mutate/pixel_processor.mutants).
+#   rtl/mutate/mutants.sh hash  prints the RTL's hash (the lists' header).
+# Needs yosys (Debian: apt-get install yosys) and python3.
+set -euo pipefail
+export LC_ALL=C  # the sources in one order everywhere (the hash)
+here=$(cd "$(dirname "$0")" && pwd)
+rtl=$(cd "$here/.." && pwd)
+root=$(cd "$rtl/.." && pwd)
+list_file=${MUTATE_LIST:-$here/pixel_processor.mutants}
+cache=${MUTATE_CACHE:-$root/target/mutate}
+blackbox=${MUTATE_BLACKBOX:-}
+
+die() { echo "mutants.sh: $*" >&2; exit 2; }
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&2; exit 2; }
+command -v python3 >/dev/null || die "python3 is not on PATH"
+need_yosys() { command -v yosys >/dev/null || die "yosys is not on PATH (Debian: apt-get install yosys)"; }
+
+# The sources, in a fixed order, relative to the checkout (the `-src`
+# attributes, and so the list, name rtl/...).
+cd "$root"
+sources=(rtl/fp/*.v rtl/pp/*.v)
+
+# FNV-1a 64 over the sources' names and contents: the list's RTL.
+rtl_hash() {
+    python3 - "${sources[@]}" <<'PY'
+import sys
+h = 0xcbf29ce484222325
+for path in sys.argv[1:]:
+    for b in path.encode() + b"\0" + open(path, "rb").read():
+        h = ((h ^ b) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+print(f"{h:016x}")
+PY
+}
+
+# The prepared design (RTLIL), cached: prints its path.
+design() {
+    need_yosys
+    local hash key il read="" f m
+    hash=$(rtl_hash)
+    key=$hash${blackbox:+-$(echo "$blackbox" | tr ' ' '-')}
+    il=$cache/design-$key.il
+    if [ ! -s "$il" ]; then
+        mkdir -p "$cache"
+        for f in "${sources[@]}"; do
+            m=${f##*/}
+            m=${m%.v}
+            if [[ " $blackbox " == *" $m "* ]]; then
+                # The module's header (its includes, parameters and ports, up
+                # to the first line that is ");") as a black box.
+                python3 - "$f" > "$cache/$m.box.v" <<'PY' || die "no module header ending in ');' in $f"
+import sys
+text = open(sys.argv[1]).read().split("\n")
+start = next(i for i, l in enumerate(text) if l.startswith("module "))
+end = next(i for i, l in enumerate(text) if i > start and l == ");")
+text[start] = "(* blackbox *)\n" + text[start]
+print("\n".join(text[: end + 1]) + "\nendmodule")
+PY
+                read+=" $cache/$m.box.v"
+            else
+                read+=" $f"
+            fi
+        done
+        {
+            echo "read_verilog -defer -DPP_TRACE -Irtl/fp -Irtl/pp$read"
+            echo "hierarchy -top pixel_processor -chparam RECIP_METHOD 0 -chparam SQRT_METHOD 0"
+            echo "prep -top pixel_processor"
+            echo "write_rtlil $il.tmp"
+        } > "$cache/prep.ys"
+        if [ -z "$blackbox" ]; then
+            echo "mutants.sh: preparing the design (yosys prep; about 3 minutes, the seed tables)" >&2
+        fi
+        yosys -q -l "$cache/prep.log" -s "$cache/prep.ys" >/dev/null || { tail -20 "$cache/prep.log" >&2; die "yosys prep failed"; }
+        mv "$il.tmp" "$il"
+    fi
+    echo "$il"
+}
+
+# The list's mutation lines ("ID mutate ..."), all or the IDs given.
+mutations() {
+    [ -s "$list_file" ] || die "$list_file is missing: run rtl/mutate/mutants.sh list"
+    python3 - "$list_file" "$@" <<'PY'
+import sys
+path, *ids = sys.argv[1:]
+lines = {}
+for n, line in enumerate(open(path), 1):
+    if line.startswith("#") or not line.strip():
+        continue
+    i, _, rest = line.strip().partition(" ")
+    if not i.isdigit() or not rest.startswith("mutate "):
+        sys.exit(f"mutants.sh: {path}:{n}: not 'ID mutate ...': {line.strip()}")
+    lines[int(i)] = rest
+for i in ids:
+    if not i.isdigit() or int(i) not in lines:
+        sys.exit(f"mutants.sh: no mutant {i} in {path} (1..{max(lines)})")
+for i in (map(int, ids) if ids else sorted(lines)):
+    print(i, lines[i])
+PY
+}
+
+cmd=${1:-}
+[ -n "$cmd" ] || usage
+# A list is read with the black boxes it was listed with.
+if [ "$cmd" != list ] && [ -s "$list_file" ]; then
+    blackbox=$(sed -n 's/^# black boxes: //p' "$list_file")
+fi
+shift
+case $cmd in
+hash) rtl_hash ;;
+list)
+    count=${1:-1200} seed=${2:-1}
+    [[ $count =~ ^[1-9][0-9]*$ && $count -le 65535 ]] || die "COUNT '$count' is not in 1..65535"
+    [[ $seed =~ ^[0-9]+$ ]] || die "SEED '$seed' is not a number"
+    il=$(design)
+    tmp=$(mktemp)
+    trap 'rm -f "$tmp"' EXIT
+    yosys -q -p "read_rtlil $il; mutate -list $count -seed $seed -o $tmp" >/dev/null
+    {
+        echo "# Mutants of the pixel processor (PP_TRACE, exact methods), listed by"
+        echo "# ${blackbox:+MUTATE_BLACKBOX=\"$blackbox\" }rtl/mutate/mutants.sh list $count $seed: yosys mutate -list $count -seed $seed."
+        echo "# rtl fnv1a64 $(rtl_hash)"
+        echo "# $(yosys -V)"
+        [ -z "$blackbox" ] || echo "# black boxes: $blackbox"
+        echo "# Left out: mutations of a memory's clock or read-reset ports (write_verilog"
+        echo "# cannot write such a memory): $(grep -cE ' -port (RD_ARST|RD_SRST|RD_CLK|WR_CLK) ' "$tmp" || true)."
+        grep -vE ' -port (RD_ARST|RD_SRST|RD_CLK|WR_CLK) ' "$tmp" | awk '{ print NR, $0 }'
+    } > "$list_file"
+    echo "mutants.sh: $(grep -vc '^#' "$list_file") mutants in $list_file"
+    ;;
+netlist)
+    [ $# -ge 1 ] || usage
+    out=$1
+    shift
+    il=$(design)
+    want=$(grep '^# rtl fnv1a64 ' "$list_file" | cut -d' ' -f4)
+    [ "$want" = "$(rtl_hash)" ] || die "$list_file was listed on other RTL (fnv1a64 $want, now $(rtl_hash)): run rtl/mutate/mutants.sh list"
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+    # mutsel into every module (black boxes aside) and down through every
+    # instance of one.
+    python3 - "$il" "$tmp/unbox.ys" > "$tmp/ports.ys" <<'PY'
+import re, sys
+modules, boxes, inst, cur, attrs = [], set(), [], None, []
+for line in open(sys.argv[1]):
+    stripped = line.strip()
+    if stripped.startswith("attribute "):
+        attrs.append(stripped.split()[1])
+        continue
+    m = re.match(r"module (\S+)", line)
+    if m:
+        cur = m.group(1)
+        if "\\blackbox" in attrs:
+            boxes.add(cur)
+        else:
+            modules.append(cur)
+    c = re.match(r"\s+cell (\S+) (\S+)", line)
+    if c and (c.group(1).startswith("\\") or c.group(1).startswith("$paramod")):
+        inst.append((cur, c.group(1), c.group(2)))
+    attrs = []
+for m in modules:
+    print(f"add -input mutsel 16 {m}")
+for m, t, c in inst:
+    if t not in boxes:
+        print(f"cd {m}\nconnect -port {c} mutsel mutsel\ncd ..")
+# A black box given parameters is a derived module, $paramod\NAME\P=V...:
+# after flattening, its instances become NAME again with their parameters,
+# so that the netlist instantiates the RTL module.
+with open(sys.argv[2], "w") as unbox:
+    for b in sorted(boxes):
+        if not b.startswith("$paramod\\"):
+            continue
+        name, *params = b.split("\\")[1:]
+        for p in params:
+            key, _, value = p.partition("=")
+            bits = value.split("'", 1)[1]
+            print(f"setparam -set {key} {int(bits, 2)} t:{b}", file=unbox)
+        print(f"chtype -map {b} {name}", file=unbox)
+PY
+    {
+        echo "read_rtlil $il"
+        cat "$tmp/ports.ys"
+        mutations "$@" | while read -r id mut; do echo "${mut%% -src*} -ctrl mutsel 16 $id"; done
+        # $pmux as trees of $mux: write_verilog makes a wide $pmux (fp_exp's
+        # table) a function that Verilator expands into tens of MB of C++.
+        echo "pmuxtree"
+        # One module, its wires driven bit by bit by different cells split:
+        # whole, or passing through ports, Verilator sees loops through them
+        # (UNOPTFLAT) and settles them by iterating, 50 times slower.
+        echo "flatten"
+        echo "hierarchy -top pixel_processor"
+        cat "$tmp/unbox.ys"
+        echo "opt_clean"
+        echo "splitnets -driver"
+        echo "write_verilog -noattr $out"
+    } > "$tmp/netlist.ys"
+    yosys -q -l "$tmp/log" -s "$tmp/netlist.ys" >/dev/null || { tail -20 "$tmp/log" >&2; die "yosys failed making the netlist"; }
+    echo "mutants.sh: $(mutations "$@" | wc -l) mutants behind mutsel in $out"
+    ;;
+equiv)
+    [ $# -ge 1 ] || usage
+    il=$(design)
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+    limit=${MUTATE_EQUIV_SECONDS:-120}
+    [[ $limit =~ ^[1-9][0-9]*$ ]] || die "MUTATE_EQUIV_SECONDS '$limit' is not a number of seconds"
+    # Memories as flip-flops, asynchronous resets as synchronous: cells the
+    # equiv_ passes know.
+    yosys -q -p "read_rtlil $il; memory_map; async2sync; write_rtlil $tmp/mapped.il" >/dev/null ||
+        die "yosys failed mapping the design's memories"
+    # Per mutant, one Yosys with a time limit: the mutated module's hierarchy
+    # and a mutated copy, flattened, paired signal by signal (equiv_make:
+    # registers of the same name are cut points, so the proof holds for any
+    # register values), structurally merged where equal (equiv_struct), the
+    # rest proved by SAT (equiv_simple, equiv_induct). Prints "ID equivalent",
+    # "ID not-proved" (some signal stands unproven: it may differ, or differ
+    # only for register values no run reaches) or "ID timeout".
+    mutations "$@" | while read -r id mut; do
+        module=$(sed -E 's/.* -module ([^ ]+) .*/\1/' <<<"$mut")
+        mut=${mut%% -src*}
+        {
+            echo "read_rtlil $tmp/mapped.il"
+            echo "hierarchy -top $module"
+            echo "copy $module mutant_gate"
+            echo "${mut/ -module $module / -module mutant_gate }"
+            echo "flatten $module mutant_gate"
+            echo "equiv_make $module mutant_gate mutant_equiv"
+            echo "hierarchy -top mutant_equiv"
+            echo "equiv_struct"
+            echo "equiv_simple -seq 2"
+            echo "equiv_induct -seq 2"
+            echo "equiv_status"
+        } > "$tmp/equiv.ys"
+        status=0
+        timeout "$limit" yosys -q -l "$tmp/log" -s "$tmp/equiv.ys" >/dev/null || status=$?
+        if [ "$status" -eq 124 ]; then
+            echo "$id timeout"
+        elif [ "$status" -ne 0 ]; then
+            tail -20 "$tmp/log" >&2
+            die "yosys failed on the equivalence of mutant $id"
+        elif grep -q "Equivalence successfully proven" "$tmp/log"; then
+            echo "$id equivalent"
+        elif grep -qE "Found [0-9]+ unproven" "$tmp/log"; then
+            echo "$id not-proved"
+        else
+            die "mutant $id: no equiv_status verdict in Yosys' log"
+        fi
+    done
+    ;;
+*) usage ;;
+esac

@@ -1,0 +1,282 @@
+//! Icarus Verilog under the tests (tests/icarus.rs, tests/mutation.rs):
+//! compiling rtl/ (or a mutant netlist) with a testbench of tests/icarus/,
+//! the scene and pixel files the testbenches read, running `vvp`, and
+//! golden's verdict on what came back.
+
+use golden::fp::Method;
+use golden::micro::loader::{self, Config};
+use golden::micro::Processor;
+use golden::scene::Scene;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Is `iverilog` here? If not, fails under RTCOSIM_REQUIRE_ICARUS=1, else
+/// says loudly that the test did not run.
+pub fn icarus_present(test: &str) -> bool {
+    super::tool_present(test, "iverilog", "-V", "RTCOSIM_REQUIRE_ICARUS", "iverilog")
+}
+
+/// One pixel as Icarus computed it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SimPixel {
+    pub x: u32,
+    pub y: u32,
+    /// `rgb` lanes r, g, b as Icarus printed them: 8 hex digits, or with
+    /// x/z digits where the value is unknown.
+    pub rgb: [String; 3],
+    pub cycles: u64,
+}
+
+/// A work directory for one test under cargo's temporary directory.
+pub fn work_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("icarus")
+        .join(name);
+    // A previous run's files are overwritten, never read.
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir
+}
+
+/// Compiles rtl/ and the testbench `tb` (tests/icarus/<tb>.v) for the
+/// scene's float methods and the testbench parameters `params`.
+pub fn compile(
+    dir: &Path,
+    tb: &str,
+    recip: Method,
+    sqrt: Method,
+    params: &[(&str, u32)],
+) -> PathBuf {
+    let (includes, sources) = super::rtl_tree();
+    let params: Vec<(&str, u32)> = [("RECIP_METHOD", recip.code()), ("SQRT_METHOD", sqrt.code())]
+        .into_iter()
+        .chain(params.iter().copied())
+        .collect();
+    let vvp = dir.join(format!("{tb}_{recip}_{sqrt}.vvp"));
+    iverilog(&vvp, tb, &includes, &sources, &[], &params);
+    vvp
+}
+
+/// Compiles a mutant netlist of `rtl/mutate/mutants.sh netlist` (one
+/// flattened module, `pixel_processor`, with `mutsel`) under pp_tb with
+/// `MUTANTS` defined, beside the float units' RTL (rtl/fp/*.v) for the
+/// modules the list left as black boxes: the testbench drives `mutsel` from
+/// `+mutsel=N`.
+pub fn compile_mutants(dir: &Path, netlist: &Path) -> PathBuf {
+    let (includes, sources) = super::rtl_tree();
+    let float_units = sources
+        .iter()
+        .filter(|p| p.starts_with(&includes[0]))
+        .cloned();
+    let sources: Vec<PathBuf> = std::iter::once(netlist.to_path_buf())
+        .chain(float_units)
+        .collect();
+    let vvp = dir.join("pp_tb_mutants.vvp");
+    iverilog(&vvp, "pp_tb", &includes, &sources, &["MUTANTS"], &[]);
+    vvp
+}
+
+/// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.
+fn iverilog(
+    vvp: &Path,
+    tb: &str,
+    includes: &[PathBuf],
+    sources: &[PathBuf],
+    defines: &[&str],
+    params: &[(&str, u32)],
+) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    super::run_silent(
+        Command::new("iverilog")
+            .args(["-g2005", "-Wall", "-s", tb, "-o"])
+            .arg(vvp)
+            .args(includes.iter().map(|d| format!("-I{}", d.display())))
+            .arg(format!("-I{}/tests/icarus", root.display()))
+            .args(defines.iter().map(|d| format!("-D{d}")))
+            .args(
+                params
+                    .iter()
+                    .map(|(name, value)| format!("-P{tb}.{name}={value}")),
+            )
+            .args(sources)
+            .arg(root.join(format!("tests/icarus/{tb}.v"))),
+        "iverilog",
+    );
+}
+
+/// The scene-port writes of `scene` for the testbench: every scene register
+/// (`loader::scene_writes`), then the configuration word, as the verilated
+/// model is loaded.
+pub fn scene_hex(scene: &Scene) -> (String, usize) {
+    let mut writes: Vec<(bool, u8, [u32; 3])> = loader::scene_writes(scene)
+        .into_iter()
+        .map(|(addr, v)| (false, addr, v))
+        .collect();
+    writes.push((true, 0, Config::new(scene).word()));
+    let mut text = String::new();
+    for (cfg, addr, [x, y, z]) in &writes {
+        writeln!(
+            text,
+            "{:02x}{addr:02x}{z:08x}{y:08x}{x:08x}",
+            u8::from(*cfg)
+        )
+        .expect("string");
+    }
+    (text, writes.len())
+}
+
+/// Writes `scene`'s scene-port writes into `dir`/scene.hex.
+pub fn write_scene_hex(dir: &Path, scene: &Scene) -> PathBuf {
+    let scene_file = dir.join("scene.hex");
+    std::fs::write(&scene_file, scene_hex(scene).0).expect("writing the scene");
+    scene_file
+}
+
+/// Writes `pixels` for `$readmemh` into `file`.
+pub fn write_pixel_hex(file: &Path, pixels: &[(u32, u32)]) {
+    let mut list = String::new();
+    for (x, y) in pixels {
+        writeln!(list, "{x:04x}{y:04x}").expect("string");
+    }
+    std::fs::write(file, list).expect("writing the pixels");
+}
+
+/// The `PIX` lines of a testbench's output: x, y, the rgb lanes, the cycles
+/// and the fields after them (the top's processor).
+pub fn pix_lines(stdout: &str) -> Vec<(SimPixel, Vec<u64>)> {
+    stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("PIX "))
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let dec = |s: &str| s.parse::<u64>().unwrap_or_else(|e| panic!("{l:?}: {e}"));
+            assert!(f.len() >= 6, "{l:?}");
+            let pixel = SimPixel {
+                x: dec(f[0]) as u32,
+                y: dec(f[1]) as u32,
+                rgb: [f[2], f[3], f[4]].map(str::to_string),
+                cycles: dec(f[5]),
+            };
+            (pixel, f[6..].iter().map(|s| dec(s)).collect())
+        })
+        .collect()
+}
+
+/// Runs `pixels` of `scene` under Icarus, split over one `vvp` per core.
+pub fn simulate(name: &str, scene: &Scene, pixels: &[(u32, u32)]) -> Vec<SimPixel> {
+    let dir = work_dir(name);
+    let vvp = compile(&dir, "pp_tb", scene.render.recip, scene.render.sqrt, &[]);
+    let scene_file = write_scene_hex(&dir, scene);
+    let n_writes = scene_hex(scene).1;
+    let shards = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let per_shard = pixels.len().div_ceil(shards).max(1);
+    std::thread::scope(|s| {
+        let threads: Vec<_> = pixels
+            .chunks(per_shard)
+            .enumerate()
+            .map(|(i, chunk)| {
+                let (vvp, scene_file, dir) = (&vvp, &scene_file, &dir);
+                s.spawn(move || {
+                    run_vvp(
+                        vvp,
+                        scene_file,
+                        n_writes,
+                        &dir.join(format!("pixels{i}.hex")),
+                        chunk,
+                    )
+                })
+            })
+            .collect();
+        threads
+            .into_iter()
+            .flat_map(|t| t.join().expect("a vvp shard panicked"))
+            .collect()
+    })
+}
+
+/// One `vvp` run: the scene writes, then `pixels` in order.
+pub fn run_vvp(
+    vvp: &Path,
+    scene_file: &Path,
+    n_writes: usize,
+    pixel_file: &Path,
+    pixels: &[(u32, u32)],
+) -> Vec<SimPixel> {
+    let stdout = vvp_pixels(vvp, scene_file, n_writes, pixel_file, pixels, &[]);
+    let got: Vec<SimPixel> = pix_lines(&stdout).into_iter().map(|(p, _)| p).collect();
+    let back: Vec<(u32, u32)> = got.iter().map(|p| (p.x, p.y)).collect();
+    assert_eq!(back, pixels, "pixels back from vvp");
+    got
+}
+
+/// Runs a testbench's `vvp` on the scene writes and `pixels` (written to
+/// `pixel_file`) with more plusargs `extra`; its stdout, which must end the
+/// run with `END`.
+pub fn vvp_pixels(
+    vvp: &Path,
+    scene_file: &Path,
+    n_writes: usize,
+    pixel_file: &Path,
+    pixels: &[(u32, u32)],
+    extra: &[&str],
+) -> String {
+    let stdout = vvp_run(vvp, scene_file, n_writes, pixel_file, pixels, extra);
+    assert!(
+        stdout.lines().any(|l| l == "END"),
+        "vvp did not finish:\n{stdout}"
+    );
+    stdout
+}
+
+/// [`vvp_pixels`] that also accepts a run the testbench stopped at a hung
+/// pixel (`HUNG x y cycles`, no `END`): a mutant may hang.
+pub fn vvp_run(
+    vvp: &Path,
+    scene_file: &Path,
+    n_writes: usize,
+    pixel_file: &Path,
+    pixels: &[(u32, u32)],
+    extra: &[&str],
+) -> String {
+    write_pixel_hex(pixel_file, pixels);
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(vvp)
+        .arg(format!("+scene={}", scene_file.display()))
+        .arg(format!("+writes={n_writes}"))
+        .arg(format!("+pixels={}", pixel_file.display()))
+        .arg(format!("+count={}", pixels.len()))
+        .args(extra)
+        .output()
+        .expect("running vvp");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success() && stdout.lines().any(|l| l == "END" || l.starts_with("HUNG ")),
+        "vvp did not finish:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+/// The pixels whose RGB bits or cycles under Icarus differ from golden's,
+/// as report lines.
+pub fn differences(scene: &Scene, got: &[SimPixel]) -> Vec<String> {
+    let golden = Processor::new(scene);
+    got.iter()
+        .filter_map(|p| {
+            let want = golden.render_pixel(p.x, p.y, |_, _| {});
+            let rgb = want.rgb.map(|c| format!("{:08x}", c.to_bits()));
+            (rgb != p.rgb || want.cycles != p.cycles).then(|| {
+                format!(
+                    "({}, {}): icarus rgb {} cycles {}, golden rgb {} cycles {}",
+                    p.x,
+                    p.y,
+                    p.rgb.join(" "),
+                    p.cycles,
+                    rgb.join(" "),
+                    want.cycles
+                )
+            })
+        })
+        .collect()
+}

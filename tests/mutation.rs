@@ -1,0 +1,278 @@
+//! Mutation testing's machinery, in every `cargo test` (docs/mutation.md).
+//!
+//! The campaign itself (`rtcosim mutate`, cargo feature `mutation`) judges
+//! 1,199 mutants on a Verilator build of their netlist; preparing that
+//! design takes Yosys three minutes (the seed tables of fp_recip and
+//! fp_sqrt). The smoke test here runs the same script on the smoke list,
+//! rtl/mutate/smoke.mutants, listed with those two units as black boxes
+//! (seconds of Yosys), and judges a handful of its mutants under Icarus:
+//!
+//! - the netlist with no mutant selected agrees with golden, bit and cycle;
+//! - the mutants a bug would be are killed: some pixel differs from golden;
+//! - a mutant Yosys proves equivalent agrees with golden, and Yosys does not
+//!   prove the killed ones equivalent (the prover can say no).
+//!
+//! Needs yosys and iverilog: without them the test says loudly that it did
+//! not run, and fails under RTCOSIM_REQUIRE_YOSYS=1 / RTCOSIM_REQUIRE_ICARUS=1
+//! (CI sets both).
+
+mod common;
+
+use common::icarus::{
+    compile_mutants, differences, icarus_present, pix_lines, scene_hex, vvp_run, work_dir,
+    write_scene_hex, SimPixel,
+};
+use common::{reduced, tool_present};
+use golden::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const SCRIPT: &str = "rtl/mutate/mutants.sh";
+const SMOKE_LIST: &str = "rtl/mutate/smoke.mutants";
+
+/// Mutants of the smoke list a bug would be, and what they break:
+/// each must make some pixel differ from golden.
+const KILLED: &[(u16, &str)] = &[
+    (23, "fp_add.v:60, a comparison's result inverted"),
+    (21, "fp_mul.v:79, inverted"),
+    (22, "alu_ctrl.v:76, a case select inverted"),
+    (26, "alu.v:99, a mux select forced to 1"),
+    (40, "memory.v:78, inverted"),
+    (10, "pp_ctrl.v:599, inverted"),
+];
+/// A mutant Yosys proves equivalent: pp_ctrl.v:503 `cut ? ISA_ST_CUT_W :
+/// ISA_ST_SH_OFFSET` with bit 0 of the second operand, already 0, forced to 0.
+const EQUIVALENT: u16 = 4;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `rtl/mutate/mutants.sh ARGS` on `list`, its cache under cargo's
+/// temporary directory; stdout, or the failure with stderr.
+fn script(list: &str, args: &[&str]) -> String {
+    let out = Command::new("bash")
+        .arg(root().join(SCRIPT))
+        .args(args)
+        .env("MUTATE_LIST", root().join(list))
+        .env(
+            "MUTATE_CACHE",
+            Path::new(env!("CARGO_TARGET_TMPDIR")).join("mutate"),
+        )
+        .output()
+        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+    assert!(
+        out.status.success(),
+        "{SCRIPT} {}:\n{}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// The `# rtl fnv1a64 H` line of a list.
+fn listed_hash(list: &str) -> String {
+    let text = std::fs::read_to_string(root().join(list)).expect("reading the list");
+    text.lines()
+        .find_map(|l| l.strip_prefix("# rtl fnv1a64 "))
+        .unwrap_or_else(|| panic!("{list}: no '# rtl fnv1a64' line"))
+        .to_string()
+}
+
+#[test]
+fn the_mutant_lists_were_listed_on_todays_rtl() {
+    let today = script(SMOKE_LIST, &["hash"]).trim().to_string();
+    assert_eq!(today.len(), 16, "{SCRIPT} hash: {today:?}");
+    for list in [rtcosim::mutation::LIST_PATH, SMOKE_LIST] {
+        assert_eq!(
+            listed_hash(list),
+            today,
+            "{list} was listed on other RTL: run `{SCRIPT} list` (see docs/mutation.md)"
+        );
+    }
+    // The smoke list names the black boxes it was listed with.
+    let smoke = std::fs::read_to_string(root().join(SMOKE_LIST)).expect("reading");
+    assert!(smoke
+        .lines()
+        .any(|l| l == "# black boxes: fp_recip fp_sqrt"));
+}
+
+/// Runs `pixels` of `scene` on mutant `id` of the compiled netlist.
+fn run_mutant(
+    vvp: &Path,
+    dir: &Path,
+    scene_file: &Path,
+    n_writes: usize,
+    pixels: &[(u32, u32)],
+    id: u16,
+) -> Vec<SimPixel> {
+    let stdout = vvp_run(
+        vvp,
+        scene_file,
+        n_writes,
+        &dir.join(format!("pixels-{id}.hex")),
+        pixels,
+        &[&format!("+mutsel={id}")],
+    );
+    let lines = pix_lines(&stdout);
+    // A mutant may hang a pixel: the testbench then prints HUNG and stops.
+    lines.into_iter().map(|(p, _)| p).collect()
+}
+
+#[test]
+fn smoke_mutants_are_killed_or_proved_equivalent() {
+    let test = "smoke_mutants_are_killed_or_proved_equivalent";
+    if !tool_present(test, "yosys", "-V", "RTCOSIM_REQUIRE_YOSYS", "yosys") || !icarus_present(test)
+    {
+        return;
+    }
+    let dir = work_dir("mutation_smoke");
+    let netlist: PathBuf = dir.join("smoke.v");
+    let mut ids: Vec<String> = KILLED.iter().map(|(id, _)| id.to_string()).collect();
+    ids.push(EQUIVALENT.to_string());
+    let mut args = vec!["netlist", common::arg(&netlist)];
+    args.extend(ids.iter().map(String::as_str));
+    script(SMOKE_LIST, &args);
+    let vvp = compile_mutants(&dir, &netlist);
+
+    let scene: Scene = reduced("reference");
+    let pixels: Vec<(u32, u32)> = (0..scene.camera.height)
+        .step_by(7)
+        .flat_map(|y| (0..scene.camera.width).step_by(9).map(move |x| (x, y)))
+        .collect();
+    let scene_file = write_scene_hex(&dir, &scene);
+    let n_writes = scene_hex(&scene).1;
+    let judge = |id: u16| {
+        let got = run_mutant(&vvp, &dir, &scene_file, n_writes, &pixels, id);
+        let mut diff = differences(&scene, &got);
+        if got.len() < pixels.len() {
+            diff.push(format!(
+                "{} of {} pixels came back (hung)",
+                got.len(),
+                pixels.len()
+            ));
+        }
+        diff
+    };
+
+    let baseline = judge(0);
+    assert!(
+        baseline.is_empty(),
+        "no mutant selected, yet:\n{}",
+        baseline.join("\n")
+    );
+    for (id, what) in KILLED {
+        assert!(
+            !judge(*id).is_empty(),
+            "mutant {id} ({what}) survived the smoke judge"
+        );
+    }
+    let same = judge(EQUIVALENT);
+    assert!(
+        same.is_empty(),
+        "mutant {EQUIVALENT} is to be equivalent, yet:\n{}",
+        same.join("\n")
+    );
+
+    // The prover on the equivalent mutant and on the first killed one (a
+    // small module: seconds).
+    let (killed, _) = KILLED[0];
+    let verdicts = script(
+        SMOKE_LIST,
+        &["equiv", &EQUIVALENT.to_string(), &killed.to_string()],
+    );
+    let verdict = |id: u16| {
+        verdicts
+            .lines()
+            .find_map(|l| l.strip_prefix(&format!("{id} ")))
+            .unwrap_or_else(|| panic!("no verdict for mutant {id} in:\n{verdicts}"))
+            .to_string()
+    };
+    assert_eq!(verdict(EQUIVALENT), "equivalent", "{verdicts}");
+    assert_eq!(verdict(killed), "not-proved", "{verdicts}");
+}
+
+#[test]
+fn mutate_refuses_bad_mutant_lists() {
+    for (bad, says) in [
+        ("0", "expected mutant numbers"),
+        ("5-3", "expected mutant numbers"),
+        ("1-x", "expected mutant numbers"),
+        ("70000", "expected mutant numbers"),
+    ] {
+        common::assert_refused(&["mutate", "--mutants", bad], &["--mutants", says]);
+    }
+}
+
+#[cfg(not(feature = "mutation"))]
+#[test]
+fn mutate_without_the_netlist_says_how_to_build_it() {
+    let out = common::rtcosim(&["mutate", "--mutants", "1"]);
+    let stderr = common::text(&out.stderr);
+    assert!(!out.status.success(), "{}", common::both(&out));
+    assert!(
+        stderr.contains("--features mutation") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+}
+
+/// The campaign through the binary (cargo feature `mutation`): a few
+/// mutants judged whole and in two shards merged give the same verdicts.
+#[cfg(feature = "mutation")]
+#[test]
+fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
+    use common::{arg, both, rtcosim, scratch, text};
+    let dir = scratch("mutation", "campaign");
+    let judge = ["mutate", "--mutants", "1-6", "--size", "8x6", "--fuzz", "2"];
+    let verdicts = |json: &Path| -> Vec<(u64, String)> {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(json).expect("mutation.json"))
+                .expect("JSON");
+        v["outcomes"]
+            .as_array()
+            .expect("outcomes")
+            .iter()
+            .map(|o| (o["id"].as_u64().expect("id"), o["verdict"].to_string()))
+            .collect()
+    };
+    let whole = dir.join("whole");
+    let mut args = judge.to_vec();
+    args.extend(["--out", arg(&whole)]);
+    let out = rtcosim(&args);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("the netlist with no mutant selected passes the judge"),
+        "{}",
+        both(&out)
+    );
+    let got = verdicts(&whole.join("mutation.json"));
+    assert_eq!(
+        got.iter().map(|v| v.0).collect::<Vec<_>>(),
+        (1..=6).collect::<Vec<_>>()
+    );
+    assert!(got.iter().any(|v| v.1.contains("killed")), "{got:?}");
+    // Exit 0 only when every mutant was killed or proved equivalent.
+    assert_eq!(
+        out.status.success(),
+        got.iter().all(|v| v.1.contains("killed")),
+        "{}",
+        both(&out)
+    );
+
+    let shards = dir.join("shards");
+    for k in ["0/2", "1/2"] {
+        let mut args = judge.to_vec();
+        args.extend(["--shard", k, "--out", arg(&shards)]);
+        let out = rtcosim(&args);
+        assert!(text(&out.stdout).contains("wrote"), "{}", both(&out));
+    }
+    let merged = dir.join("merged");
+    let out = rtcosim(&["merge", arg(&shards), "--out", arg(&merged)]);
+    assert!(merged.join("mutation-report.md").exists(), "{}", both(&out));
+    assert_eq!(verdicts(&merged.join("mutation.json")), got);
+
+    common::assert_refused(
+        &["mutate", "--mutants", "60000"],
+        &["there is no mutant 60000"],
+    );
+}

@@ -1,0 +1,240 @@
+//! `rtcosim mutate`: mutants of the pixel processor judged against golden
+//! (harness::mutation, docs/mutation.md).
+
+use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
+use crate::ui::{plural, progress_bar};
+use anyhow::{Context, Result};
+use rtcosim::mutation::{self, Campaign, Judge, JudgeSpec, List, Summary};
+use rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES;
+use rtcosim::shard::file::{self as shard_file, ShardFile};
+use rtcosim::shard::Shard;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct MutateArgs {
+    /// The mutants to judge, by number in rtl/mutate/pixel_processor.mutants:
+    /// a comma-separated list of N and N-M (default: every one).
+    #[arg(long, value_name = "LIST", value_parser = parse_ids)]
+    pub mutants: Option<MutantIds>,
+    /// The size the judge runs every builtin scene at.
+    #[arg(long, value_name = "WxH", default_value = "16x12", value_parser = parse_size)]
+    pub size: Size,
+    /// Fuzz scenes in the judge after the builtins (those that load).
+    #[arg(long, value_name = "N", default_value_t = 20)]
+    pub fuzz: u64,
+    /// The seed of the judge's fuzz scenes.
+    #[arg(long, value_name = "SEED", default_value_t = 1)]
+    pub fuzz_seed: u64,
+    /// Cycles a pixel may take before the mutant counts as hung (killed).
+    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
+    pub timeout_cycles: u64,
+    /// Ask Yosys (rtl/mutate/mutants.sh equiv) whether each survivor's
+    /// module is equivalent to the original (needs yosys on PATH).
+    #[arg(long)]
+    pub equiv: bool,
+    #[command(flatten)]
+    pub threads: ThreadsArgs,
+    #[command(flatten)]
+    pub shard: ShardArgs,
+    /// Write mutation-report.md and mutation.json into DIR (a shard: its
+    /// mutate-K-of-N.shard.json, for `rtcosim merge`).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Mutant numbers, ascending, each once (one clap value, not many).
+#[derive(Clone, Debug)]
+pub struct MutantIds(pub Vec<u16>);
+
+/// `1-5,9` -> [1, 2, 3, 4, 5, 9]: ascending, each once.
+fn parse_ids(s: &str) -> Result<MutantIds, String> {
+    let bad = || {
+        format!("expected mutant numbers N or N-M separated by commas, each 1..=65535, e.g. 1-100,205; got {s:?}")
+    };
+    let number = |t: &str| {
+        t.trim()
+            .parse::<u16>()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(bad)
+    };
+    let mut ids = std::collections::BTreeSet::new();
+    for part in s.split(',') {
+        match part.split_once('-') {
+            Some((a, b)) => {
+                let (a, b) = (number(a)?, number(b)?);
+                if a > b {
+                    return Err(bad());
+                }
+                ids.extend(a..=b);
+            }
+            None => {
+                ids.insert(number(part)?);
+            }
+        }
+    }
+    Ok(MutantIds(ids.into_iter().collect()))
+}
+
+/// Returns whether every mutant was killed or proved equivalent.
+pub fn run(args: MutateArgs) -> Result<bool> {
+    if !mutation::BUILT {
+        anyhow::bail!(
+            "this rtcosim was built without the mutant netlist: build it with the cargo feature \
+             `mutation` (needs yosys): cargo run --release --features mutation -- mutate ..."
+        );
+    }
+    let list = List::committed()?;
+    let total = list.mutants.len();
+    let mutants: Vec<u16> = match &args.mutants {
+        Some(MutantIds(ids)) => {
+            if let Some(bad) = ids.iter().find(|&&id| usize::from(id) > total) {
+                anyhow::bail!(
+                    "--mutants: there is no mutant {bad}: {} lists 1..={total}",
+                    mutation::LIST_PATH
+                );
+            }
+            ids.clone()
+        }
+        None => list.mutants.iter().map(|m| m.id).collect(),
+    };
+    let shard = args.shard.resolve()?;
+    if let (Some(shard), None) = (shard, &args.out) {
+        anyhow::bail!("shard {shard}: a shard writes its shard file into --out DIR; give --out");
+    }
+    if let Some(out) = &args.out {
+        std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
+    }
+    let spec = JudgeSpec {
+        width: args.size.width,
+        height: args.size.height,
+        fuzz_seed: args.fuzz_seed,
+        fuzz_count: args.fuzz,
+        timeout_cycles: args.timeout_cycles,
+    };
+    let judge = Judge::new(spec)?;
+    let campaign = Campaign {
+        judge: spec,
+        mutants,
+        rtl_hash: list.rtl_hash.clone(),
+        verilator: rtcosim::VERILATOR_VERSION.into(),
+    };
+    let ids = campaign.ids(shard.unwrap_or(Shard::WHOLE));
+    let pool = args.threads.pool()?;
+    let threads = pool.current_num_threads();
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "rtcosim mutate: {} of the {total} mutants of {}{}, {threads} thread{}, {}",
+        campaign.mutants.len(),
+        mutation::LIST_PATH,
+        shard.map_or(String::new(), |s| format!(
+            ", shard {s} ({} mutants)",
+            ids.len()
+        )),
+        plural(threads as u64),
+        rtcosim::VERILATOR_VERSION
+    )?;
+    writeln!(
+        out,
+        "judge: every builtin scene at {}x{} and {} of {} fuzz scenes of seed {} load: {} checks, {} pixels",
+        spec.width,
+        spec.height,
+        judge.checks.len() - golden::scene::Scene::builtin_names().len(),
+        spec.fuzz_count,
+        spec.fuzz_seed,
+        judge.checks.len(),
+        judge.pixels()
+    )?;
+    out.flush()?;
+    // The netlist with no mutant selected must pass, or nothing below means
+    // anything.
+    let start = Instant::now();
+    let baseline = mutation::judge(0, &judge)?;
+    if let mutation::Verdict::Killed { check, how } = &baseline.verdict {
+        anyhow::bail!(
+            "the netlist with no mutant selected (mutsel = 0) fails the judge at {check}: {how}"
+        );
+    }
+    writeln!(
+        out,
+        "the netlist with no mutant selected passes the judge ({} pixels, {:.2} s)",
+        baseline.pixels, baseline.seconds
+    )?;
+    writeln!(out)?;
+    out.flush()?;
+    let bar = progress_bar(
+        ids.len() as u64,
+        "judging",
+        "{pos}/{len} mutants ({per_sec}, {eta})",
+    )?;
+    let outcomes = pool.install(|| mutation::run(&ids, &judge, &|n| bar.inc(n)))?;
+    bar.finish_and_clear();
+    let mut summary = Summary {
+        checks: judge.checks.len() as u64,
+        judge_pixels: judge.pixels(),
+        outcomes,
+        equivalence: Default::default(),
+    };
+    if args.equiv {
+        let survivors = summary.survivors();
+        writeln!(
+            out,
+            "asking Yosys whether the {} survivor{} are equivalent ...",
+            survivors.len(),
+            plural(survivors.len() as u64)
+        )?;
+        out.flush()?;
+        summary.equivalence =
+            mutation::prove_equivalent(&survivors).map_err(|e| anyhow::anyhow!("--equiv: {e}"))?;
+    }
+    match (shard, &args.out) {
+        (Some(shard), Some(dir)) => {
+            write!(out, "{}", summary.report(&list))?;
+            let file = ShardFile::new(
+                mutation::TOOL,
+                shard_file::run_config(&campaign),
+                shard,
+                campaign.mutants.len() as u64,
+                &summary,
+            );
+            writeln!(out, "wrote {}", file.write(dir)?.display())?;
+        }
+        _ => finish(&mut out, &summary, &list, args.out.as_deref())?,
+    }
+    writeln!(
+        out,
+        "{} mutants in {:.1} s",
+        summary.outcomes.len(),
+        start.elapsed().as_secs_f64()
+    )?;
+    Ok(summary.passed())
+}
+
+/// The report's file names in --out.
+pub const REPORT: &str = "mutation-report.md";
+pub const JSON: &str = "mutation.json";
+
+/// The report of a whole campaign: printed, and with `dir` written to
+/// mutation-report.md and mutation.json. The unsharded campaign and
+/// `rtcosim merge` both end here.
+pub fn finish(
+    out: &mut impl Write,
+    summary: &Summary,
+    list: &List,
+    dir: Option<&Path>,
+) -> Result<()> {
+    let text = summary.report(list);
+    out.write_all(text.as_bytes())?;
+    if let Some(dir) = dir {
+        let path = dir.join(REPORT);
+        std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
+        let json = dir.join(JSON);
+        std::fs::write(&json, serde_json::to_string_pretty(summary)?)
+            .with_context(|| format!("writing {}", json.display()))?;
+        writeln!(out, "wrote {} and {}", path.display(), json.display())?;
+    }
+    Ok(())
+}
