@@ -146,6 +146,18 @@ const COV_PREFIX: &str = "Vpixel_processor_cov";
 /// `<MUT_PREFIX>_exact_exact`.
 const MUT_PREFIX: &str = "Vpixel_processor_mut";
 
+/// The float units `mutants.sh netlist` cuts from the mutated design, each
+/// verilated as `V<unit>_mut` (the exact methods, as in the processor), and
+/// the `FpModel` (harness/bridge.rs) each stands for.
+const MUT_UNITS: [(&str, &str); 6] = [
+    ("fp_add", "Add"),
+    ("fp_mul", "Mul"),
+    ("fp_itof", "Itof"),
+    ("fp_exp", "Exp"),
+    ("fp_recip", "RecipExact"),
+    ("fp_sqrt", "SqrtExact"),
+];
+
 /// The controller's possible transitions (rtl/cover/transitions.sh), from
 /// which the coverage build's cover points are made.
 const TRANSITIONS: &str = "rtl/cover/pp_ctrl.transitions";
@@ -259,10 +271,37 @@ fn run() -> Result<(), String> {
             .collect();
     }
     let mut pp_mut_sources = Vec::new();
+    // The float units cut from the same mutated design, each beside the
+    // processor's netlist (mutants.sh netlist writes them): (top, netlist).
+    let mut fp_mut_sources = Vec::new();
     if mutation {
         flavours.push(Flavour::Mutant);
-        pp_mut_sources.push(write_mutant_netlist(&manifest, &out)?);
+        let netlist = write_mutant_netlist(&manifest, &out)?;
+        for (top, model) in MUT_UNITS {
+            fp_mut_sources.push((top, model, vec![netlist.with_extension(format!("{top}.v"))]));
+        }
+        pp_mut_sources.push(netlist);
     }
+    for (top, _, sources) in &fp_mut_sources {
+        models.push(Model {
+            prefix: format!("V{top}_mut"),
+            top,
+            params: vec![],
+            defines: vec![],
+            includes: vec![],
+            sources,
+            flavour: Flavour::Mutant,
+        });
+    }
+    write_models(
+        &out.join("rtcosim_fp_mut_models.h"),
+        "the float units cut from the mutant netlist: X(class, FpModel)",
+        "RTCOSIM_FP_MUT_MODELS",
+        &fp_mut_sources
+            .iter()
+            .map(|(top, model, _)| (format!("V{top}_mut"), model.to_string()))
+            .collect::<Vec<_>>(),
+    )?;
     let mut pp_variants = Vec::new();
     let mut wave_variants = Vec::new();
     let mut cov_variants = Vec::new();

@@ -133,6 +133,11 @@ pub(crate) mod ffi {
         /// Builds and resets a model. Fails if the model cannot be constructed.
         fn new_fp_unit(model: FpModel) -> Result<UniquePtr<FpUnit>>;
 
+        /// The unit cut from the mutant netlist (cargo feature `mutation`,
+        /// exact methods), mutant `mutant` selected (0: the design as
+        /// written); fails if it was not built.
+        fn new_fp_unit_mut(model: FpModel, mutant: u16) -> Result<UniquePtr<FpUnit>>;
+
         /// Evaluates `y[i] = unit(a[i], b[i])` for every `i`; `b` is ignored by
         /// unary units. For multi-cycle units, `cycles[i]` receives the clock
         /// edges from the one sampling `in_valid` to the one after which

@@ -145,7 +145,21 @@ pub const DEFAULT_TIMEOUT_CYCLES: u32 = 1000;
 impl FpUnit {
     /// Builds and resets the verilated model of `kind`.
     pub fn new(kind: UnitKind) -> Result<FpUnit, UnitError> {
-        let inner = ffi::new_fp_unit(kind.model()).map_err(|e| UnitError::Build {
+        Self::wrap(kind, ffi::new_fp_unit(kind.model()))
+    }
+
+    /// The unit as cut from the mutant netlist (cargo feature `mutation`;
+    /// the exact methods only), with mutant `id` selected (0: the design as
+    /// written), for [`crate::mutation`].
+    pub fn new_mutant(kind: UnitKind, id: u16) -> Result<FpUnit, UnitError> {
+        Self::wrap(kind, ffi::new_fp_unit_mut(kind.model(), id))
+    }
+
+    fn wrap(
+        kind: UnitKind,
+        made: Result<UniquePtr<ffi::FpUnit>, cxx::Exception>,
+    ) -> Result<FpUnit, UnitError> {
+        let inner = made.map_err(|e| UnitError::Build {
             unit: kind,
             message: e.what().to_string(),
         })?;

@@ -23,7 +23,10 @@
 //!   survivor's module equal to the original, or fails to.
 
 use crate::cosim::{self, CosimOptions};
+use crate::fp_check;
+use crate::fp_unit::{FpUnit, UnitKind};
 use crate::fuzz::generate;
+use crate::operands;
 use crate::pixel_proc::{PixelProcessor, PpError};
 use crate::scenes::with_methods;
 use crate::shard::Shard;
@@ -76,14 +79,110 @@ pub struct Mutant {
 pub struct List {
     pub rtl_hash: String,
     pub mutants: Vec<Mutant>,
+    /// The survivors' classification ([`SURVIVORS_PATH`]), by mutant.
+    pub classified: BTreeMap<u16, Classified>,
 }
 
-/// A line of the list that does not read.
+/// A line of the list (or of its survivors' classification) that does not
+/// read.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{LIST_PATH}:{line}: {message}")]
+#[error("{path}:{line}: {message}")]
 pub struct ListError {
+    pub path: &'static str,
     pub line: usize,
     pub message: String,
+}
+
+/// The committed classification of the survivors of the whole campaign.
+pub const SURVIVORS_TEXT: &str = include_str!("../rtl/mutate/pixel_processor.survivors");
+
+/// Its path in the checkout, for messages.
+pub const SURVIVORS_PATH: &str = "rtl/mutate/pixel_processor.survivors";
+
+/// What a survivor is, as classified by a reader of the RTL
+/// (rtl/mutate/pixel_processor.survivors; docs/mutation.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Class {
+    /// Yosys proved it equivalent (`--equiv`); the reason says what it does.
+    Equivalent,
+    /// It differs from the design only in states or inputs no run reaches;
+    /// the reason names the invariant.
+    Unreachable,
+    /// A behaviour the judge misses; the reason says what would kill it.
+    Hole,
+    /// Not decided yet.
+    Open,
+}
+
+impl Class {
+    fn parse(word: &str) -> Option<Class> {
+        Some(match word {
+            "equivalent" => Class::Equivalent,
+            "unreachable" => Class::Unreachable,
+            "hole" => Class::Hole,
+            "open" => Class::Open,
+            _ => return None,
+        })
+    }
+
+    /// Whether no run can tell the mutant from the design.
+    pub fn is_equivalent(self) -> bool {
+        matches!(self, Class::Equivalent | Class::Unreachable)
+    }
+}
+
+impl std::fmt::Display for Class {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Class::Equivalent => "equivalent",
+            Class::Unreachable => "unreachable",
+            Class::Hole => "hole",
+            Class::Open => "open",
+        })
+    }
+}
+
+/// A survivor's class and the reason for it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Classified {
+    pub class: Class,
+    pub reason: String,
+}
+
+/// Reads a classification: `ID CLASS reason`, one a line, `#` comments.
+pub fn parse_classification(text: &str) -> Result<BTreeMap<u16, Classified>, ListError> {
+    let mut found = BTreeMap::new();
+    for (n, line) in text.lines().enumerate() {
+        if line.starts_with('#') || line.trim().is_empty() {
+            continue;
+        }
+        let error = |message: String| ListError {
+            path: SURVIVORS_PATH,
+            line: n + 1,
+            message,
+        };
+        let mut words = line.splitn(3, ' ');
+        let (Some(id), Some(class), Some(reason)) = (words.next(), words.next(), words.next())
+        else {
+            return Err(error(format!("not `ID CLASS reason`: {line}")));
+        };
+        let id: u16 = id
+            .parse()
+            .map_err(|_| error(format!("mutant number {id:?} is not in 1..=65535")))?;
+        let class = Class::parse(class).ok_or_else(|| {
+            error(format!(
+                "class {class:?} is none of equivalent, unreachable, hole, open"
+            ))
+        })?;
+        let classified = Classified {
+            class,
+            reason: reason.trim().to_string(),
+        };
+        if found.insert(id, classified).is_some() {
+            return Err(error(format!("mutant {id} is classified twice")));
+        }
+    }
+    Ok(found)
 }
 
 /// `$paramod$<hash>\fp_lzc` and `$paramod\memory\STACK_DEPTH=...` ->
@@ -98,7 +197,21 @@ fn module_name(raw: &str) -> String {
 impl List {
     /// The committed list.
     pub fn committed() -> Result<List, ListError> {
-        List::parse(LIST_TEXT)
+        let mut list = List::parse(LIST_TEXT)?;
+        list.classified = parse_classification(SURVIVORS_TEXT)?;
+        if let Some(&id) = list.classified.keys().find(|&&id| list.get(id).is_none()) {
+            return Err(ListError {
+                path: SURVIVORS_PATH,
+                line: 0,
+                message: format!("mutant {id} is not in {LIST_PATH}"),
+            });
+        }
+        Ok(list)
+    }
+
+    /// Mutant `id`, if the list holds it.
+    pub fn get(&self, id: u16) -> Option<&Mutant> {
+        self.mutants.iter().find(|m| m.id == id)
     }
 
     pub fn parse(text: &str) -> Result<List, ListError> {
@@ -106,6 +219,7 @@ impl List {
         let mut mutants = Vec::new();
         for (n, line) in text.lines().enumerate() {
             let error = |message: String| ListError {
+                path: LIST_PATH,
                 line: n + 1,
                 message,
             };
@@ -160,31 +274,128 @@ impl List {
             });
         }
         let rtl_hash = rtl_hash.ok_or(ListError {
+            path: LIST_PATH,
             line: 1,
             message: "no `# rtl fnv1a64` line: not a list rtl/mutate/mutants.sh wrote".into(),
         })?;
-        Ok(List { rtl_hash, mutants })
+        Ok(List {
+            rtl_hash,
+            mutants,
+            classified: BTreeMap::new(),
+        })
     }
 }
 
-/// One check of the judge: a scene co-simulated over a window.
+/// One check of the judge.
 #[derive(Debug, Clone)]
 pub struct Check {
-    /// `builtin reference 16x12`, `fuzz seed 1 scene 17`.
+    /// `builtin reference 16x12`, `fuzz seed 1 scene 17`, `fp_add edge
+    /// cases`.
     pub name: String,
-    pub scene: Scene,
-    pub window: Window,
+    pub stimulus: Stimulus,
 }
 
-/// What the judge is made of: every builtin scene at `size`, then the
-/// accepted scenes among `fuzz_count` fuzz scenes of `fuzz_seed`; all with
-/// the exact methods.
+/// What a check runs.
+#[derive(Debug, Clone)]
+pub enum Stimulus {
+    /// A scene co-simulated over a window on the processor.
+    Scene { scene: Box<Scene>, window: Window },
+    /// Operands through one float unit cut from the mutant netlist, each
+    /// result against golden's bits and each operation's cycles against
+    /// its latency ([`fp_check::check_batch`]). Only a mutant of a float
+    /// unit's module faces these ([`Mutant::in_float_unit`]).
+    Unit {
+        kind: UnitKind,
+        a: Vec<u32>,
+        b: Vec<u32>,
+    },
+}
+
+/// The float units cut from the mutant netlist, in the judge's order
+/// (combinational first: the cheapest kills): every unit, with the exact
+/// methods the netlist has.
+pub fn units() -> impl Iterator<Item = UnitKind> {
+    UnitKind::ALL
+        .into_iter()
+        .filter(|k| k.method().map_or(true, |m| m == Method::Exact))
+}
+
+impl Mutant {
+    /// Whether the mutant lies in a float unit (`rtl/fp/`, modules `fp_*`),
+    /// so that the units cut from the netlist carry it too.
+    pub fn in_float_unit(&self) -> bool {
+        self.module.starts_with("fp_")
+    }
+}
+
+/// The judge's directed scenes (`rtl/mutate/scenes/`, docs/mutation.md):
+/// written to kill survivors that the builtin and fuzz scenes miss, each
+/// named in its file's header; judged whole at their own size, or on the
+/// window given.
+pub const DIRECTED: &[(&str, &str, Option<Window>)] = &[
+    (
+        "planes_z_first",
+        include_str!("../rtl/mutate/scenes/planes_z_first.toml"),
+        None,
+    ),
+    (
+        "planes_x_last",
+        include_str!("../rtl/mutate/scenes/planes_x_last.toml"),
+        None,
+    ),
+    (
+        "camera_roll",
+        include_str!("../rtl/mutate/scenes/camera_roll.toml"),
+        None,
+    ),
+    (
+        "camera_level",
+        include_str!("../rtl/mutate/scenes/camera_level.toml"),
+        None,
+    ),
+    (
+        "shortcut_alone",
+        include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
+        None,
+    ),
+    (
+        "materials",
+        include_str!("../rtl/mutate/scenes/materials.toml"),
+        None,
+    ),
+    (
+        "mirror_shallow",
+        include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
+        None,
+    ),
+    (
+        "weight_cutoff",
+        include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
+        None,
+    ),
+    (
+        "deep_mirrors",
+        include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
+        None,
+    ),
+    (
+        "large_frame",
+        include_str!("../rtl/mutate/scenes/large_frame.toml"),
+        Some(Window::new(126, 2046, 4, 4)),
+    ),
+];
+
+/// What the judge is made of: every float unit's edge cases and
+/// `unit_operands` seeded random operands (seed `fuzz_seed`), every builtin
+/// scene at `size`, then the accepted scenes among `fuzz_count` fuzz scenes
+/// of `fuzz_seed`; all with the exact methods.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct JudgeSpec {
     pub width: u32,
     pub height: u32,
     pub fuzz_seed: u64,
     pub fuzz_count: u64,
+    pub unit_operands: u64,
     pub timeout_cycles: u64,
 }
 
@@ -212,6 +423,38 @@ impl Judge {
             })
         };
         let mut checks = Vec::new();
+        for kind in units() {
+            let (a, b) = operands::edge_cases(kind);
+            checks.push(Check {
+                name: format!("{} edge cases", kind.module()),
+                stimulus: Stimulus::Unit { kind, a, b },
+            });
+            if spec.unit_operands > 0 {
+                let len = usize::try_from(spec.unit_operands).map_err(|_| JudgeError {
+                    what: format!("{} random operands", kind.module()),
+                    message: format!("{} operands do not fit in memory", spec.unit_operands),
+                })?;
+                let (a, b) = operands::random_chunk(kind, spec.fuzz_seed, 0, len);
+                checks.push(Check {
+                    name: format!(
+                        "{} {} random operands of seed {}",
+                        kind.module(),
+                        spec.unit_operands,
+                        spec.fuzz_seed
+                    ),
+                    stimulus: Stimulus::Unit { kind, a, b },
+                });
+            }
+        }
+        let mut scene_check = |name: String, scene: Scene, window: Window| {
+            checks.push(Check {
+                name,
+                stimulus: Stimulus::Scene {
+                    scene: Box::new(scene),
+                    window,
+                },
+            })
+        };
         for name in Scene::builtin_names() {
             let what = format!("builtin {name} {}x{}", spec.width, spec.height);
             let scene = Scene::builtin(name)
@@ -225,11 +468,25 @@ impl Judge {
                     message: e.to_string(),
                 })?;
             let scene = exact(&scene, &what)?;
-            checks.push(Check {
-                name: what,
-                window: Window::full(&scene),
-                scene,
-            });
+            let window = Window::full(&scene);
+            scene_check(what, scene, window);
+        }
+        for (name, text, window) in DIRECTED {
+            let what = format!("directed {name}");
+            let path = format!("rtl/mutate/scenes/{name}.toml");
+            let scene = Scene::from_toml(text, &path).map_err(|e| JudgeError {
+                what: what.clone(),
+                message: e.to_string(),
+            })?;
+            let scene = exact(&scene, &what)?;
+            let window = window.unwrap_or_else(|| Window::full(&scene));
+            window
+                .check_inside(scene.camera.width, scene.camera.height)
+                .map_err(|e| JudgeError {
+                    what: what.clone(),
+                    message: e.to_string(),
+                })?;
+            scene_check(format!("{what} {}", window.describe()), scene, window);
         }
         for index in 0..spec.fuzz_count {
             let g = generate::scene(spec.fuzz_seed, index);
@@ -242,18 +499,41 @@ impl Judge {
             let Ok(scene) = exact(&scene, &what) else {
                 continue;
             };
-            checks.push(Check {
-                name: what,
-                window: Window::full(&scene),
-                scene,
-            });
+            let window = Window::full(&scene);
+            scene_check(what, scene, window);
         }
         Ok(Judge { spec, checks })
     }
 
+    /// The scene checks.
+    pub fn scenes(&self) -> usize {
+        self.checks
+            .iter()
+            .filter(|c| matches!(c.stimulus, Stimulus::Scene { .. }))
+            .count()
+    }
+
     /// The pixels one mutant faces if it survives.
     pub fn pixels(&self) -> u64 {
-        self.checks.iter().map(|c| c.window.pixels()).sum()
+        self.checks
+            .iter()
+            .map(|c| match &c.stimulus {
+                Stimulus::Scene { window, .. } => window.pixels(),
+                Stimulus::Unit { .. } => 0,
+            })
+            .sum()
+    }
+
+    /// The float-unit operands a mutant of a float unit faces if it
+    /// survives.
+    pub fn unit_operands(&self) -> u64 {
+        self.checks
+            .iter()
+            .map(|c| match &c.stimulus {
+                Stimulus::Scene { .. } => 0,
+                Stimulus::Unit { a, .. } => a.len() as u64,
+            })
+            .sum()
     }
 }
 
@@ -279,33 +559,78 @@ pub struct Outcome {
     pub seconds: f64,
 }
 
-/// Judges mutant `id` (0: the design as written) on a fresh model.
-pub fn judge(id: u16, judge: &Judge) -> Result<Outcome, PpError> {
+/// What one check says of a mutant: `None` if it passed, or how it failed.
+fn unit_check(id: u16, kind: UnitKind, a: &[u32], b: &[u32]) -> Option<String> {
+    let mut unit = match FpUnit::new_mutant(kind, id) {
+        Ok(unit) => unit,
+        Err(e) => return Some(e.to_string()),
+    };
+    let golden = |a, b| kind.golden(a, b);
+    match fp_check::check_batch(&mut unit, &golden, a, b) {
+        Err(e) => Some(e.to_string()),
+        Ok(report) => {
+            if let Some(m) = report.first_mismatches.first() {
+                Some(format!("{} differs from golden: {m}", kind.module()))
+            } else if report.latency_violations > 0 {
+                Some(format!(
+                    "{} of {} operations took other than the {} cycles golden promises (took {:?})",
+                    report.latency_violations,
+                    report.operands,
+                    kind.latency(),
+                    report.cycles
+                ))
+            } else {
+                None
+            }
+        }
+    }
+}
+
+/// Judges mutant `id` (0: the design as written) on fresh models: the
+/// float-unit checks if `in_float_unit` (see [`Mutant::in_float_unit`]),
+/// then the scenes on the processor.
+pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpError> {
     let start = Instant::now();
+    let mut pixels = 0;
+    let outcome = |verdict, pixels| Outcome {
+        id,
+        verdict,
+        pixels,
+        seconds: start.elapsed().as_secs_f64(),
+    };
+    for check in judge.checks.iter().filter(|_| in_float_unit) {
+        let Stimulus::Unit { kind, a, b } = &check.stimulus else {
+            continue;
+        };
+        if let Some(how) = unit_check(id, *kind, a, b) {
+            let check = check.name.clone();
+            return Ok(outcome(Verdict::Killed { check, how }, pixels));
+        }
+    }
     let mut rtl = PixelProcessor::new_mutant(id)?;
     let options = CosimOptions {
         timeout_cycles: judge.spec.timeout_cycles,
         ..CosimOptions::default()
     };
-    let mut pixels = 0;
     if let Err(e) = rtl.reset() {
-        return Ok(Outcome {
-            id,
-            verdict: Verdict::Killed {
+        let how = e.to_string();
+        return Ok(outcome(
+            Verdict::Killed {
                 check: "reset".into(),
-                how: e.to_string(),
+                how,
             },
             pixels,
-            seconds: start.elapsed().as_secs_f64(),
-        });
+        ));
     }
-    let mut verdict = Verdict::Survived;
     for check in &judge.checks {
+        let Stimulus::Scene { scene, window } = &check.stimulus else {
+            continue;
+        };
         let killed = |how: String| Verdict::Killed {
             check: check.name.clone(),
             how,
         };
-        match cosim::run_on(&mut rtl, &check.scene, check.window, &options, &mut |_| {}) {
+        match cosim::run_on(&mut rtl, scene, *window, &options, &mut |_| {}) {
             Ok(report) => {
                 pixels += report.compare.counts.pixels;
                 if !report.passed() {
@@ -320,34 +645,28 @@ pub fn judge(id: u16, judge: &Judge) -> Result<Outcome, PpError> {
                             .to_string(),
                         None => "no events compared".to_string(),
                     };
-                    verdict = killed(how);
-                    break;
+                    return Ok(outcome(killed(how), pixels));
                 }
             }
-            Err(e) => {
-                verdict = killed(format!("the run failed: {e}"));
-                break;
-            }
+            Err(e) => return Ok(outcome(killed(format!("the run failed: {e}")), pixels)),
         }
     }
-    Ok(Outcome {
-        id,
-        verdict,
-        pixels,
-        seconds: start.elapsed().as_secs_f64(),
-    })
+    Ok(outcome(Verdict::Survived, pixels))
 }
 
 /// Judges `ids` in parallel on the current rayon pool; results in the
 /// order of `ids`. `progress` is called once per mutant.
+/// Mutants that `list` does not hold count as in a float unit (every check).
 pub fn run(
     ids: &[u16],
+    list: &List,
     judge_: &Judge,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Outcome>, PpError> {
     ids.par_iter()
         .map(|&id| {
-            let o = judge(id, judge_);
+            let in_unit = list.get(id).map_or(true, Mutant::in_float_unit);
+            let o = judge(id, in_unit, judge_);
             progress(1);
             o
         })
@@ -475,7 +794,7 @@ impl Summary {
     }
 }
 
-/// Per module: (mutants, killed, proved equivalent).
+/// Per module: (mutants, killed, survivors proved or argued equivalent).
 fn per_module(list: &List, summary: &Summary) -> BTreeMap<String, (u64, u64, u64)> {
     let mut rows: BTreeMap<String, (u64, u64, u64)> = BTreeMap::new();
     for o in &summary.outcomes {
@@ -486,7 +805,7 @@ fn per_module(list: &List, summary: &Summary) -> BTreeMap<String, (u64, u64, u64
         let row = rows.entry(module.to_string()).or_default();
         row.0 += 1;
         row.1 += u64::from(matches!(o.verdict, Verdict::Killed { .. }));
-        row.2 += u64::from(summary.equivalence.get(&o.id) == Some(&Equivalence::Equivalent));
+        row.2 += u64::from(summary.is_equivalent(list, o.id));
     }
     rows
 }
@@ -500,6 +819,19 @@ fn percent(part: u64, whole: u64) -> String {
 }
 
 impl Summary {
+    /// Whether survivor `id` is proved equivalent (Yosys, this run) or
+    /// classified equivalent or unreachable ([`SURVIVORS_PATH`]).
+    pub fn is_equivalent(&self, list: &List, id: u16) -> bool {
+        self.outcomes
+            .iter()
+            .any(|o| o.id == id && o.verdict == Verdict::Survived)
+            && (self.equivalence.get(&id) == Some(&Equivalence::Equivalent)
+                || list
+                    .classified
+                    .get(&id)
+                    .is_some_and(|c| c.class.is_equivalent()))
+    }
+
     /// Whether every mutant was killed or proved equivalent.
     pub fn passed(&self) -> bool {
         self.survivors()
@@ -533,6 +865,30 @@ impl Summary {
             percent(killed, n),
             percent(killed, n - equivalent)
         );
+        let argued = survivors
+            .iter()
+            .filter(|&&id| self.is_equivalent(list, id))
+            .count() as u64;
+        let classes = |c: Class| {
+            survivors
+                .iter()
+                .filter(|id| list.classified.get(id).map(|x| x.class) == Some(c))
+                .count()
+        };
+        let _ = writeln!(
+            s,
+            "score of those neither proved nor argued equivalent: {} ({argued} survivors are; \
+             {SURVIVORS_PATH}: {} equivalent, {} unreachable, {} holes, {} open, {} not classified)",
+            percent(killed, n - argued),
+            classes(Class::Equivalent),
+            classes(Class::Unreachable),
+            classes(Class::Hole),
+            classes(Class::Open),
+            survivors
+                .iter()
+                .filter(|id| !list.classified.contains_key(id))
+                .count()
+        );
         let _ = writeln!(
             s,
             "survivors' equivalence (Yosys): {}",
@@ -564,7 +920,7 @@ impl Summary {
         let _ = writeln!(s);
         let _ = writeln!(
             s,
-            "| module | mutants | killed | survived | proved equivalent | score | score of the not equivalent |"
+            "| module | mutants | killed | survived | proved or argued equivalent | score | score of the not equivalent |"
         );
         let _ = writeln!(s, "|---|---|---|---|---|---|---|");
         for (module, (m, k, e)) in per_module(list, self) {
@@ -593,8 +949,11 @@ impl Summary {
         let _ = writeln!(s, "survivors ({}):", survivors.len());
         if !survivors.is_empty() {
             let _ = writeln!(s);
-            let _ = writeln!(s, "| mutant | module | where | mode | equivalence |");
-            let _ = writeln!(s, "|---|---|---|---|---|");
+            let _ = writeln!(
+                s,
+                "| mutant | module | where | mode | equivalence | classified |"
+            );
+            let _ = writeln!(s, "|---|---|---|---|---|---|");
         }
         for id in survivors {
             let (module, location, mode) = list
@@ -609,9 +968,15 @@ impl Summary {
                 Some(Equivalence::Timeout) => "proof timed out",
                 None => "not asked",
             };
+            let classified = list
+                .classified
+                .get(&id)
+                .map_or("not classified".to_string(), |c| {
+                    format!("{}: {}", c.class, c.reason.replace('|', "\\|"))
+                });
             let _ = writeln!(
                 s,
-                "| {id} | {module} | {location} | {mode} | {equivalence} |"
+                "| {id} | {module} | {location} | {mode} | {equivalence} | {classified} |"
             );
         }
         s
@@ -621,6 +986,29 @@ impl Summary {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_classification_reads_or_names_the_bad_line() {
+        let ok =
+            parse_classification("# c\n4 unreachable only when x | y\n9 hole a deeper scene\n")
+                .expect("reads");
+        assert_eq!(ok[&4].class, Class::Unreachable);
+        assert_eq!(ok[&4].reason, "only when x | y");
+        assert!(ok[&4].class.is_equivalent() && !ok[&9].class.is_equivalent());
+        for (bad, says) in [
+            ("4 maybe why", "class \"maybe\""),
+            ("x hole why", "mutant number"),
+            ("4 hole", "not `ID CLASS reason`"),
+            ("4 hole a\n4 open b", "classified twice"),
+        ] {
+            let e = parse_classification(bad).expect_err(bad).to_string();
+            assert!(
+                e.starts_with(SURVIVORS_PATH) && e.contains(says),
+                "{bad}: {e}"
+            );
+        }
+        List::committed().expect("the committed list and classification read");
+    }
 
     #[test]
     fn module_names_lose_their_parameters() {

@@ -145,8 +145,62 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
                 .flat_map(|&m| (m - 2..=m + 2).flat_map(|v| [v, v | 0x8000_0000])),
         );
     }
+    if let UnitKind::Recip(_) | UnitKind::Sqrt(_) = kind {
+        a.extend(correction_edges(kind));
+    }
     (a, Vec::new())
 }
+
+/// Operands of each step count of the exact methods' correction (for either
+/// method: the estimate is the same): for `fp_recip`, mantissas whose Newton
+/// estimate lies 0, 1, 2 and 3 below `floor(2^50 / m)`, with both signs;
+/// for `fp_sqrt`, estimates one over, exact and one under, with both
+/// exponent parities. The first [`CORRECTION_EDGES`] of each, in mantissa
+/// order ([`golden::fp::recip_correction`], [`golden::fp::sqrt_correction`]):
+/// the rarer steps are the remainder fix-ups no scene reaches.
+fn correction_edges(kind: UnitKind) -> Vec<u32> {
+    use std::sync::OnceLock;
+    static RECIP: OnceLock<Vec<u32>> = OnceLock::new();
+    static SQRT: OnceLock<Vec<u32>> = OnceLock::new();
+    // The first of each class among `bases | frac`, frac = 1, 2, ...
+    let first = |bases: &[u32], class: &dyn Fn(u32) -> Option<i64>, classes: &[i64]| {
+        let mut found = Vec::new();
+        for &base in bases {
+            for &want in classes {
+                found.extend(
+                    (1..1u32 << 23)
+                        .map(|frac| base | frac)
+                        .filter(|&a| class(a) == Some(want))
+                        .take(CORRECTION_EDGES),
+                );
+            }
+        }
+        found
+    };
+    match kind {
+        UnitKind::Recip(_) => RECIP
+            .get_or_init(|| {
+                let steps = |a| golden::fp::recip_correction(a).map(|s| s as i64);
+                let a = first(&[0x3F80_0000], &steps, &[0, 1, 2, 3]);
+                a.iter().flat_map(|&v| [v, v | 0x8000_0000]).collect()
+            })
+            .clone(),
+        UnitKind::Sqrt(_) => SQRT
+            .get_or_init(|| {
+                // Exponents 127 and 128: both parities of the unbiased one.
+                first(
+                    &[0x3F80_0000, 0x4000_0000],
+                    &golden::fp::sqrt_correction,
+                    &[-1, 0, 1],
+                )
+            })
+            .clone(),
+        _ => Vec::new(),
+    }
+}
+
+/// Operands of each correction step in [`edge_cases`].
+const CORRECTION_EDGES: usize = 4;
 
 /// A float with a sign, an exponent drawn from the whole range or from its
 /// edges, and a mantissa drawn uniformly or from patterns (all ones, all
@@ -227,6 +281,35 @@ pub fn random_chunk(kind: UnitKind, seed: u64, index: u64, len: usize) -> (Vec<u
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_correction_edges_take_every_step() {
+        use golden::fp::{recip_correction, sqrt_correction};
+        let (a, _) = edge_cases(UnitKind::Recip(golden::fp::Method::Exact));
+        for steps in 0..=3 {
+            let n = a
+                .iter()
+                .filter(|&&v| recip_correction(v) == Some(steps))
+                .count();
+            assert!(
+                n >= 2 * CORRECTION_EDGES,
+                "recip: {n} operands of {steps} steps"
+            );
+        }
+        let (a, _) = edge_cases(UnitKind::Sqrt(golden::fp::Method::Exact));
+        for step in -1..=1 {
+            for parity in [0x3F80_0000u32, 0x4000_0000] {
+                let n = a
+                    .iter()
+                    .filter(|&&v| v & 0xFF80_0000 == parity && sqrt_correction(v) == Some(step))
+                    .count();
+                assert!(
+                    n >= CORRECTION_EDGES,
+                    "sqrt: {n} operands of step {step} at {parity:#x}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn edge_values_cover_both_signs_and_the_specials() {

@@ -276,3 +276,51 @@ fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
         &["there is no mutant 60000"],
     );
 }
+
+/// The judge's float-unit stage (cargo feature `mutation`): mutant 1
+/// (fp_lzc.v:33, a select bit of the count forced to 0; it survived every
+/// scene of the judge before the stage existed) is killed by a float unit's
+/// edge cases, cut from the same netlist, with the operand that tells it
+/// from golden.
+#[cfg(feature = "mutation")]
+#[test]
+fn the_float_unit_stage_kills_a_mutant_every_scene_misses() {
+    use common::{both, rtcosim, text};
+    let out = rtcosim(&["mutate", "--mutants", "1", "--size", "8x6", "--fuzz", "0"]);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("mutants: 1 judged, 1 killed"),
+        "{}",
+        both(&out)
+    );
+    assert!(
+        stdout.contains(" edge cases: 1"),
+        "not killed by a unit's edge cases:\n{}",
+        both(&out)
+    );
+}
+
+/// Only the exact methods are cut from the mutant netlist: asking for
+/// another unit is a clear error, not a crash.
+#[cfg(feature = "mutation")]
+#[test]
+fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
+    use golden::fp::Method;
+    use rtcosim::fp_unit::{FpUnit, UnitKind};
+    let err = FpUnit::new_mutant(UnitKind::Recip(Method::Fast), 1)
+        .err()
+        .expect("fp_recip(fast) is not in the mutant netlist");
+    assert!(err.to_string().contains("exact methods only"), "{err}");
+    for kind in rtcosim::mutation::units() {
+        let mut unit = FpUnit::new_mutant(kind, 0).expect("a unit of the netlist");
+        let (a, b) = (vec![0x3F80_0000u32], vec![0x4000_0000u32]);
+        let (y, _) = unit
+            .eval(&a, if kind.is_binary() { &b } else { &[] })
+            .expect("eval");
+        assert_eq!(
+            y[0],
+            kind.golden(a[0], b[0]),
+            "{kind} of 1.0 with no mutant"
+        );
+    }
+}

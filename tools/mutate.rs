@@ -27,6 +27,10 @@ pub struct MutateArgs {
     /// The seed of the judge's fuzz scenes.
     #[arg(long, value_name = "SEED", default_value_t = 1)]
     pub fuzz_seed: u64,
+    /// Seeded random operands (seed: --fuzz-seed) through each float unit,
+    /// after its edge cases, for a mutant of a float unit.
+    #[arg(long, value_name = "N", default_value_t = 10_000)]
+    pub unit_operands: u64,
     /// Cycles a pixel may take before the mutant counts as hung (killed).
     #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
     pub timeout_cycles: u64,
@@ -112,6 +116,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         height: args.size.height,
         fuzz_seed: args.fuzz_seed,
         fuzz_count: args.fuzz,
+        unit_operands: args.unit_operands,
         timeout_cycles: args.timeout_cycles,
     };
     let judge = Judge::new(spec)?;
@@ -139,10 +144,16 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     )?;
     writeln!(
         out,
-        "judge: every builtin scene at {}x{} and {} of {} fuzz scenes of seed {} load: {} checks, {} pixels",
+        "judge: for a mutant of a float unit, its edge cases and {} random operands through each of the {} units \
+         ({} operands); every builtin scene at {}x{}, the {} directed scenes of rtl/mutate/scenes/, and the {} of {} \
+         fuzz scenes of seed {} that load: {} checks, {} pixels",
+        spec.unit_operands,
+        mutation::units().count(),
+        judge.unit_operands(),
         spec.width,
         spec.height,
-        judge.checks.len() - golden::scene::Scene::builtin_names().len(),
+        mutation::DIRECTED.len(),
+        judge.scenes() - golden::scene::Scene::builtin_names().len() - mutation::DIRECTED.len(),
         spec.fuzz_count,
         spec.fuzz_seed,
         judge.checks.len(),
@@ -152,7 +163,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     // The netlist with no mutant selected must pass, or nothing below means
     // anything.
     let start = Instant::now();
-    let baseline = mutation::judge(0, &judge)?;
+    let baseline = mutation::judge(0, true, &judge)?;
     if let mutation::Verdict::Killed { check, how } = &baseline.verdict {
         anyhow::bail!(
             "the netlist with no mutant selected (mutsel = 0) fails the judge at {check}: {how}"
@@ -170,7 +181,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         "judging",
         "{pos}/{len} mutants ({per_sec}, {eta})",
     )?;
-    let outcomes = pool.install(|| mutation::run(&ids, &judge, &|n| bar.inc(n)))?;
+    let outcomes = pool.install(|| mutation::run(&ids, &list, &judge, &|n| bar.inc(n)))?;
     bar.finish_and_clear();
     let mut summary = Summary {
         checks: judge.checks.len() as u64,

@@ -20,4 +20,8 @@ public:
 
 std::unique_ptr<FpUnit> new_fp_unit(FpModel model);
 
+// The unit cut from the mutant netlist (cargo feature `mutation`; exact
+// methods) with mutant `mutant` selected (0: the design as written).
+std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, std::uint16_t mutant);
+
 }  // namespace rtcosim

@@ -145,6 +145,20 @@ pub fn sqrt_datapath(a: u32, method: Method) -> u32 {
     sqrt::sqrt_bits(a, method)
 }
 
+/// How many steps of the mantissa `fp_recip`'s exact method adds to its
+/// Newton estimate for `a` (0 to 3; `None` where no estimate is made: NaN,
+/// infinities, zeros and powers of two). Operands for each step count are
+/// edge cases of the unit (harness `operands`).
+pub fn recip_correction(a: u32) -> Option<u64> {
+    recip::correction_steps(a)
+}
+
+/// The step `fp_sqrt`'s exact method takes from its estimate for `a`: -1,
+/// 0 or +1 (`None` for NaN, infinities, zeros and negative operands).
+pub fn sqrt_correction(a: u32) -> Option<i64> {
+    sqrt::correction_step(a)
+}
+
 /// `fp_exp`: `e^a`, within 1 ULP of the correctly rounded result over
 /// every input (not correctly rounded; the method is in the `exp` module
 /// and docs/fp.md, the error measured by the ignored test

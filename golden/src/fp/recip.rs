@@ -51,6 +51,26 @@ pub(crate) fn estimate(m: u64) -> u64 {
     (y0 * corr) >> (SEED_WIDTH + CORR_FRAC - 27)
 }
 
+/// The exact method's correction of the estimate `q` of `floor(2^50 / m)`:
+/// the steps of `m` it adds (0 to 3) and the remainder left.
+pub(crate) fn correct(m: u64, q: u64) -> (u64, u64) {
+    let rem = (1u64 << 50) - m * q;
+    let steps = (rem >= m) as u64 + (rem >= 2 * m) as u64 + (rem >= 3 * m) as u64;
+    (steps, rem - steps * m)
+}
+
+/// The steps the exact method's correction takes for finite `a` whose
+/// mantissa is not a power of two (0 to 3); `None` for the others.
+pub(crate) fn correction_steps(a: u32) -> Option<u64> {
+    match unpack(a) {
+        Operand::Finite { m, .. } if m != 1 << 23 => {
+            let m = m as u64;
+            Some(correct(m, estimate(m)).0)
+        }
+        _ => None,
+    }
+}
+
 pub(crate) fn recip_bits(a: u32, method: Method) -> u32 {
     let (sign, e, m) = match unpack(a) {
         Operand::Nan => return CANONICAL_NAN,
@@ -67,9 +87,7 @@ pub(crate) fn recip_bits(a: u32, method: Method) -> u32 {
     match method {
         Method::Fast => round_pack(sign, 253 - e, q as u32, false),
         Method::Exact => {
-            let rem = (1u64 << 50) - m * q;
-            let steps = (rem >= m) as u64 + (rem >= 2 * m) as u64 + (rem >= 3 * m) as u64;
-            let rem = rem - steps * m;
+            let (steps, rem) = correct(m, q);
             round_pack(sign, 253 - e, (q + steps) as u32, rem != 0)
         }
     }

@@ -55,6 +55,33 @@ pub(crate) fn estimate(m: u64, odd: bool) -> u64 {
     q.max(1 << 26)
 }
 
+/// The exact method's correction of the estimate `q` of `isqrt(n)`: within
+/// one, so `q - 1`, `q` or `q + 1`, and the remainder `n - q'^2`.
+fn correct(n: u64, q: u64) -> (u64, u64) {
+    let sq = q * q;
+    if sq > n {
+        (q - 1, n + 2 * q - 1 - sq)
+    } else if n - sq > 2 * q {
+        (q + 1, n - sq - 2 * q - 1)
+    } else {
+        (q, n - sq)
+    }
+}
+
+/// The step the exact method's correction takes for positive finite `a`:
+/// -1 (the estimate overshoots), 0 or +1 (it undershoots); `None` for the
+/// others.
+pub(crate) fn correction_step(a: u32) -> Option<i64> {
+    match unpack(a) {
+        Operand::Finite { sign: false, e, m } => {
+            let (m, odd) = (m as u64, e & 1 == 0);
+            let q = estimate(m, odd);
+            Some(correct((m << odd as u32) << 29, q).0 as i64 - q as i64)
+        }
+        _ => None,
+    }
+}
+
 pub(crate) fn sqrt_bits(a: u32, method: Method) -> u32 {
     let (e, m) = match unpack(a) {
         Operand::Nan | Operand::Inf { sign: true } | Operand::Finite { sign: true, .. } => {
@@ -71,15 +98,7 @@ pub(crate) fn sqrt_bits(a: u32, method: Method) -> u32 {
     match method {
         Method::Fast => round_pack(false, exp, q as u32, false),
         Method::Exact => {
-            let n = (m << odd as u32) << 29;
-            let sq = q * q;
-            let (q, rem) = if sq > n {
-                (q - 1, n + 2 * q - 1 - sq)
-            } else if n - sq > 2 * q {
-                (q + 1, n - sq - 2 * q - 1)
-            } else {
-                (q, n - sq)
-            };
+            let (q, rem) = correct((m << odd as u32) << 29, q);
             round_pack(false, exp, q as u32, rem != 0)
         }
     }
