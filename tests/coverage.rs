@@ -1,6 +1,8 @@
 //! RTL coverage: the transition table the coverage build's cover points
-//! come from is the one of today's controller, and (with the cargo feature
-//! `coverage`) the coverage models count what a run does.
+//! come from is the one of today's controller, so is the list of those
+//! argued unreachable, the directed scenes of rtl/cover/scenes/ agree with
+//! golden, and (with the cargo feature `coverage`) the coverage models count
+//! what a run does and the directed scenes take the transitions they name.
 
 use golden::micro::isa;
 use std::hash::Hasher;
@@ -30,10 +32,7 @@ fn table() -> (String, Vec<(String, String)>) {
 #[test]
 fn the_transition_table_was_proved_on_todays_controller() {
     let (text, pairs) = table();
-    let ctrl = std::fs::read(root().join("rtl/pp/pp_ctrl.v")).expect("pp_ctrl.v");
-    let mut h = fnv::FnvHasher::default();
-    h.write(&ctrl);
-    let now = format!("# pp_ctrl.v fnv1a64 {:016x}", h.finish());
+    let now = ctrl_hash_line();
     assert!(
         text.lines().any(|l| l == now),
         "rtl/cover/pp_ctrl.transitions was made from another rtl/pp/pp_ctrl.v (now `{now}`): \
@@ -69,6 +68,114 @@ fn the_transition_table_was_proved_on_todays_controller() {
     assert_eq!(from_done, [&("PIX_DONE".to_string(), "IDLE".to_string())]);
 }
 
+/// The `# pp_ctrl.v fnv1a64 ...` line of today's controller.
+fn ctrl_hash_line() -> String {
+    let ctrl = std::fs::read(root().join("rtl/pp/pp_ctrl.v")).expect("pp_ctrl.v");
+    let mut h = fnv::FnvHasher::default();
+    h.write(&ctrl);
+    format!("# pp_ctrl.v fnv1a64 {:016x}", h.finish())
+}
+
+#[test]
+fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
+    let path = root().join(rtcosim::coverage::UNREACHABLE_PATH);
+    let text = std::fs::read_to_string(&path).expect("the list");
+    let now = ctrl_hash_line();
+    assert!(
+        text.lines().any(|l| l == now),
+        "{} was argued on another rtl/pp/pp_ctrl.v (now `{now}`): check each argument \
+         against the new controller and update the hash",
+        path.display()
+    );
+    let (_, pairs) = table();
+    let argued = rtcosim::coverage::unreachable().expect("the list reads");
+    let mut seen = std::collections::BTreeSet::new();
+    for t in &argued {
+        assert!(
+            pairs.contains(&(t.from.clone(), t.to.clone())),
+            "{} -> {} is not a possible transition of the table",
+            t.from,
+            t.to
+        );
+        assert!(
+            seen.insert((&t.from, &t.to)),
+            "{} -> {} twice",
+            t.from,
+            t.to
+        );
+        // Each group's argument is written in the list's header.
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with(&format!("# {}: ", t.group))),
+            "group {} has no argument",
+            t.group
+        );
+    }
+    // What every pixel does is not argued away.
+    for (a, b) in [("IDLE", "PRI_ITOF"), ("PIX_DONE", "IDLE")] {
+        assert!(
+            !seen.contains(&(&a.to_string(), &b.to_string())),
+            "{a} -> {b}"
+        );
+    }
+}
+
+/// The directed scenes of rtl/cover/scenes/: (file, scene, the transitions
+/// its `# takes:` line names).
+fn cover_scenes() -> Vec<(String, golden::scene::Scene, Vec<(String, String)>)> {
+    let dir = root().join("rtl/cover/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("rtl/cover/scenes")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|path| {
+            let text = std::fs::read_to_string(&path).expect("scene text");
+            let takes = text
+                .lines()
+                .find_map(|l| l.strip_prefix("# takes: "))
+                .unwrap_or_else(|| panic!("{}: no `# takes:` line", path.display()))
+                .split(", ")
+                .map(|t| {
+                    let (a, b) = t.split_once(" -> ").expect("FROM -> TO");
+                    (a.to_string(), b.to_string())
+                })
+                .collect();
+            let scene = golden::scene::Scene::load(&path).expect("the scene loads");
+            (path.display().to_string(), scene, takes)
+        })
+        .collect()
+}
+
+#[test]
+fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
+    let (_, pairs) = table();
+    let scenes = cover_scenes();
+    assert_eq!(scenes.len(), 4);
+    for (file, scene, takes) in &scenes {
+        for t in takes {
+            assert!(
+                pairs.contains(t),
+                "{file}: {} -> {} is not in the table",
+                t.0,
+                t.1
+            );
+        }
+        let window = golden::window::Window::full(scene);
+        let report = rtcosim::cosim::run(
+            scene,
+            window,
+            &rtcosim::cosim::CosimOptions::default(),
+            &|_| {},
+        )
+        .expect("the run");
+        assert!(report.passed(), "{file}:\n{report}");
+        assert_eq!(report.compare.counts.pixels, window.pixels());
+    }
+}
+
 #[test]
 fn without_the_coverage_build_coverage_is_refused_with_the_command_that_builds_it() {
     if rtcosim::coverage::BUILT {
@@ -87,8 +194,12 @@ mod built {
     use rtcosim::cosim::{self, CosimOptions};
     use rtcosim::coverage::{self, Kind};
 
+    /// Coverage goes to one directory per process: one test at a time.
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
     #[test]
     fn each_pixel_is_one_start_and_one_end_transition_and_every_point_is_in_the_report() {
+        let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
         let dir = std::env::temp_dir().join(format!("rtcosim-cov-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         coverage::enable(&dir).expect("the coverage build");
@@ -141,6 +252,42 @@ mod built {
                 "{f} has no points"
             );
         }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn every_cover_scene_takes_the_transitions_it_names_and_none_argued_unreachable() {
+        let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+        let dir = std::env::temp_dir().join(format!("rtcosim-cov-scenes-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        coverage::enable(&dir).expect("the coverage build");
+        let scenes = cover_scenes();
+        for (file, scene, _) in &scenes {
+            let report = cosim::run(
+                scene,
+                Window::full(scene),
+                &CosimOptions::default(),
+                &|_| {},
+            )
+            .expect("run");
+            assert!(report.passed(), "{file}");
+        }
+        let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");
+        let data = coverage::collect(&dir.join("coverage.dat")).expect("merged");
+        for (file, _, takes) in &scenes {
+            for (a, b) in takes {
+                let count = data
+                    .points()
+                    .find(|p| p.transition() == Some((a, b)))
+                    .map_or(0, |p| p.count);
+                assert!(count > 0, "{file} never took {a} -> {b}");
+            }
+        }
+        assert!(
+            done.summary.argued_but_taken.is_empty(),
+            "taken, though argued unreachable: {:?}",
+            done.summary.argued_but_taken
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

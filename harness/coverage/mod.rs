@@ -20,7 +20,7 @@ pub mod dat;
 mod summary;
 
 pub use dat::{CoverageData, Kind, Point};
-pub use summary::{FileSummary, KindSummary, Summary};
+pub use summary::{unreachable, Argued, FileSummary, KindSummary, Summary, UNREACHABLE_PATH};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -162,15 +162,23 @@ impl Finished {
         let s = &self.summary;
         let plural = |n: usize| if n == 1 { "" } else { "s" };
         let mut text = format!(
-            "{}\n  never taken: {} state{}, {} transition{}, {} line or branch point{}\n",
+            "{}\n  never taken: {} state{}, {} transition{} (and {} argued unreachable), {} line or \
+             branch point{}\n",
             s.text(),
             s.states_missed.len(),
             plural(s.states_missed.len()),
             s.transitions_missed.len(),
             plural(s.transitions_missed.len()),
+            s.transitions_argued.len(),
             s.lines_missed.len(),
             plural(s.lines_missed.len()),
         );
+        for (a, b, l) in &s.argued_but_taken {
+            text += &format!(
+                "  warning: {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l}) was taken, but \
+                 {UNREACHABLE_PATH} argues it unreachable: the argument is wrong\n"
+            );
+        }
         for f in &self.files {
             text += &format!("  wrote {}\n", f.display());
         }
@@ -233,7 +241,12 @@ pub fn finish(inputs: &[PathBuf], out: &Path, html: bool) -> Result<Finished, Co
     std::fs::write(&dat, data.to_text()).map_err(io(&dat))?;
     files.push(dat.clone());
 
-    let summary = Summary::of(&data);
+    let argued = summary::unreachable().map_err(|(line, message)| CoverageError::Format {
+        path: source_root().join(UNREACHABLE_PATH),
+        line,
+        message,
+    })?;
+    let summary = Summary::of(&data, &argued);
     let json = out.join("summary.json");
     let text = serde_json::to_string_pretty(&summary.to_json()).unwrap_or_default() + "\n";
     std::fs::write(&json, text).map_err(io(&json))?;

@@ -1,5 +1,6 @@
 //! The figures of a coverage database: points hit per kind and per file,
-//! and what was never hit (states, transitions, untoggled bits).
+//! and what was never hit (states, transitions, untoggled bits), with the
+//! transitions argued unreachable (`rtl/cover/pp_ctrl.unreachable`) apart.
 
 use super::dat::{CoverageData, Kind};
 use serde_json::{json, Value};
@@ -52,6 +53,45 @@ pub struct FileSummary {
     pub toggle: KindSummary,
 }
 
+/// The transitions no run from reset can take, each with the group of its
+/// argument: `rtl/cover/pp_ctrl.unreachable` (docs/coverage.md).
+pub const UNREACHABLE_PATH: &str = "rtl/cover/pp_ctrl.unreachable";
+const UNREACHABLE_TEXT: &str = include_str!("../../rtl/cover/pp_ctrl.unreachable");
+
+/// A transition argued unreachable: from, to, the argument's group.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Argued {
+    pub from: String,
+    pub to: String,
+    pub group: String,
+}
+
+/// Parses a list of transitions argued unreachable (`FROM TO GROUP` per
+/// line, `#` comments); an error names the line.
+pub fn parse_unreachable(text: &str) -> Result<Vec<Argued>, (usize, String)> {
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        match line.split_whitespace().collect::<Vec<_>>()[..] {
+            [from, to, group] => out.push(Argued {
+                from: from.into(),
+                to: to.into(),
+                group: group.into(),
+            }),
+            _ => return Err((i + 1, format!("`{line}` is not FROM TO GROUP"))),
+        }
+    }
+    Ok(out)
+}
+
+/// The committed list, [`UNREACHABLE_PATH`].
+pub fn unreachable() -> Result<Vec<Argued>, (usize, String)> {
+    parse_unreachable(UNREACHABLE_TEXT)
+}
+
 /// A coverage database summed up.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Summary {
@@ -61,9 +101,15 @@ pub struct Summary {
     pub files: Vec<FileSummary>,
     /// Controller states never entered.
     pub states_missed: Vec<String>,
-    /// Possible transitions (rtl/cover/pp_ctrl.transitions) never taken:
-    /// (from, to, the table's line).
+    /// Possible transitions (rtl/cover/pp_ctrl.transitions) never taken
+    /// and not argued unreachable: (from, to, the table's line).
     pub transitions_missed: Vec<(String, String, u32)>,
+    /// Transitions never taken that are argued unreachable: (the argument,
+    /// the table's line).
+    pub transitions_argued: Vec<(Argued, u32)>,
+    /// Transitions argued unreachable that a run took: the argument is
+    /// wrong (from, to, the table's line).
+    pub argued_but_taken: Vec<(String, String, u32)>,
     /// Lines and branches never run: (file, line, what).
     pub lines_missed: Vec<(String, u32, String)>,
     /// Bits that never toggled, per module: (module, bits).
@@ -71,7 +117,9 @@ pub struct Summary {
 }
 
 impl Summary {
-    pub fn of(data: &CoverageData) -> Summary {
+    /// `data` summed up; `argued` ([`unreachable`]) sets transitions apart.
+    pub fn of(data: &CoverageData, argued: &[Argued]) -> Summary {
+        let argument = |a: &str, b: &str| argued.iter().find(|t| t.from == a && t.to == b);
         let mut kinds: BTreeMap<Kind, KindSummary> = BTreeMap::new();
         let mut files: BTreeMap<String, FileSummary> = BTreeMap::new();
         let mut s = Summary::default();
@@ -95,13 +143,19 @@ impl Summary {
                 _ => {}
             }
             if p.count > 0 {
+                if let Some((a, b)) = p.transition().filter(|(a, b)| argument(a, b).is_some()) {
+                    s.argued_but_taken.push((a.into(), b.into(), p.line));
+                }
                 continue;
             }
             match p.kind {
                 Kind::State => s.states_missed.extend(p.state().map(str::to_string)),
                 Kind::Transition => {
                     if let Some((a, b)) = p.transition() {
-                        s.transitions_missed.push((a.into(), b.into(), p.line));
+                        match argument(a, b) {
+                            Some(t) => s.transitions_argued.push((t.clone(), p.line)),
+                            None => s.transitions_missed.push((a.into(), b.into(), p.line)),
+                        }
                     }
                 }
                 Kind::Line | Kind::Branch => {
@@ -121,6 +175,8 @@ impl Summary {
             .collect();
         s.files = files.into_values().collect();
         s.transitions_missed.sort_by_key(|t| t.2);
+        s.transitions_argued.sort_by_key(|t| t.1);
+        s.argued_but_taken.sort_by_key(|t| t.2);
         s.lines_missed.sort();
         s.untoggled = untoggled.into_iter().collect();
         s
@@ -134,12 +190,30 @@ impl Summary {
             .map_or_else(KindSummary::default, |(_, v)| *v)
     }
 
+    /// The transitions that can be taken, and those taken: every possible
+    /// transition but the ones argued unreachable and never taken.
+    pub fn reachable_transitions(&self) -> KindSummary {
+        let all = self.kind(Kind::Transition);
+        KindSummary {
+            hit: all.hit,
+            total: all.total - self.transitions_argued.len() as u64,
+        }
+    }
+
     /// One line per kind, for the end of a run's text report.
     pub fn text(&self) -> String {
         let parts: Vec<String> = self
             .kinds
             .iter()
-            .map(|(k, v)| format!("{} {}", k.name(), v.cell()))
+            .map(|(k, v)| match k {
+                Kind::Transition => format!(
+                    "{} {} (reachable {})",
+                    k.name(),
+                    v.cell(),
+                    self.reachable_transitions().cell()
+                ),
+                _ => format!("{} {}", k.name(), v.cell()),
+            })
             .collect();
         format!("coverage: {}", parts.join(", "))
     }
@@ -152,6 +226,7 @@ impl Summary {
             .collect();
         json!({
             "kinds": kinds,
+            "transitions_reachable": self.reachable_transitions().to_json(),
             "files": self.files.iter().map(|f| json!({
                 "file": f.file,
                 "line": f.line.to_json(),
@@ -160,6 +235,12 @@ impl Summary {
             })).collect::<Vec<_>>(),
             "states_missed": self.states_missed,
             "transitions_missed": self.transitions_missed.iter().map(|(a, b, l)| json!({
+                "from": a, "to": b, "table_line": l,
+            })).collect::<Vec<_>>(),
+            "transitions_argued_unreachable": self.transitions_argued.iter().map(|(t, l)| json!({
+                "from": t.from, "to": t.to, "group": t.group, "table_line": l,
+            })).collect::<Vec<_>>(),
+            "argued_unreachable_but_taken": self.argued_but_taken.iter().map(|(a, b, l)| json!({
                 "from": a, "to": b, "table_line": l,
             })).collect::<Vec<_>>(),
             "lines_missed": self.lines_missed.iter().map(|(f, l, what)| json!({
@@ -175,6 +256,13 @@ impl Summary {
         let mut md = String::from("# RTL coverage\n\n| kind | points hit |\n|---|---|\n");
         for (k, v) in &self.kinds {
             let _ = writeln!(md, "| {} | {} |", k.name(), v.cell());
+            if *k == Kind::Transition {
+                let _ = writeln!(
+                    md,
+                    "| transition, reachable | {} |",
+                    self.reachable_transitions().cell()
+                );
+            }
         }
         md += "\n| file | line | branch | toggle |\n|---|---|---|---|\n";
         for f in &self.files {
@@ -195,13 +283,35 @@ impl Summary {
         for s in &self.states_missed {
             let _ = writeln!(md, "- {s}");
         }
+        if !self.argued_but_taken.is_empty() {
+            let _ = write!(
+                md,
+                "\n## Argued unreachable ({UNREACHABLE_PATH}) but taken ({}): the argument is wrong\n\n",
+                self.argued_but_taken.len()
+            );
+            for (a, b, l) in &self.argued_but_taken {
+                let _ = writeln!(md, "- {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
+            }
+        }
         let _ = write!(
             md,
-            "\n## Transitions never taken ({})\n\n",
+            "\n## Transitions never taken, not argued unreachable ({})\n\n",
             self.transitions_missed.len()
         );
         for (a, b, l) in &self.transitions_missed {
             let _ = writeln!(md, "- {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
+        }
+        let _ = write!(
+            md,
+            "\n## Transitions never taken, argued unreachable ({}; the groups' arguments: {UNREACHABLE_PATH})\n\n",
+            self.transitions_argued.len()
+        );
+        for (t, l) in &self.transitions_argued {
+            let _ = writeln!(
+                md,
+                "- {} -> {} (rtl/cover/pp_ctrl.transitions:{l}): {}",
+                t.from, t.to, t.group
+            );
         }
         let _ = write!(
             md,
@@ -222,5 +332,72 @@ impl Summary {
             let _ = writeln!(md, "- {m}: {}{more}", shown.join(", "));
         }
         md
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// A transition point of the coverage build, counted `count` times.
+    fn transition(from: &str, to: &str, line: u32, count: u64) -> String {
+        format!(
+            "C '\x01f\x02rtl/cover/pp_ctrl.transitions\x01l\x02{line}\x01n\x020\x01page\x02v_user/pp_ctrl_cover\x01o\x02t_{from}_to_{to}\x01S\x02{line}\x01h\x02TOP.pixel_processor.u_ctrl.u_cover.t_{from}_to_{to}' {count}\n"
+        )
+    }
+
+    #[test]
+    fn argued_transitions_leave_the_reachable_figure_and_one_taken_is_named() {
+        let text = String::from("# SystemC::Coverage-3\n")
+            + &transition("IDLE", "PRI_ITOF", 5, 7)
+            + &transition("HIT_CMP", "PIX_DONE", 144, 0)
+            + &transition("NORM_SCALE", "PIX_DONE", 39, 0)
+            + &transition("POP_ADD", "ROOT_BLACK", 229, 2);
+        let data = CoverageData::parse(&text, Path::new("t.dat")).expect("points");
+        let argued =
+            parse_unreachable("# two arguments\nHIT_CMP PIX_DONE U4\nPOP_ADD ROOT_BLACK U8\n")
+                .expect("a list");
+        let s = Summary::of(&data, &argued);
+        assert_eq!(s.kind(Kind::Transition), KindSummary { hit: 2, total: 4 });
+        // HIT_CMP -> PIX_DONE is out of the reachable figure; POP_ADD ->
+        // ROOT_BLACK was taken, so it counts, and is named.
+        assert_eq!(s.reachable_transitions(), KindSummary { hit: 2, total: 3 });
+        assert_eq!(
+            s.transitions_missed,
+            [("NORM_SCALE".to_string(), "PIX_DONE".to_string(), 39)]
+        );
+        assert_eq!(s.transitions_argued.len(), 1);
+        assert_eq!(
+            (
+                s.transitions_argued[0].0.group.as_str(),
+                s.transitions_argued[0].1
+            ),
+            ("U4", 144)
+        );
+        assert_eq!(
+            s.argued_but_taken,
+            [("POP_ADD".to_string(), "ROOT_BLACK".to_string(), 229)]
+        );
+        let md = s.to_markdown();
+        assert!(
+            md.contains("the argument is wrong") && md.contains("HIT_CMP -> PIX_DONE"),
+            "{md}"
+        );
+        assert!(s.text().contains("reachable 2/3 (66.7%)"), "{}", s.text());
+        // Without arguments, every miss is open.
+        let bare = Summary::of(&data, &[]);
+        assert_eq!(bare.transitions_missed.len(), 2);
+        assert_eq!(bare.reachable_transitions(), bare.kind(Kind::Transition));
+    }
+
+    #[test]
+    fn the_committed_list_reads_and_a_bad_line_is_named() {
+        let list = unreachable().expect("rtl/cover/pp_ctrl.unreachable reads");
+        assert_eq!(list.len(), 50);
+        assert_eq!(
+            parse_unreachable("# c\nA B U1\nA B\n"),
+            Err((3, "`A B` is not FROM TO GROUP".to_string()))
+        );
     }
 }
