@@ -41,6 +41,15 @@
 //! `rtcosim_pp_mut_models.h`, empty without the feature), for
 //! `harness::mutation`: one build serves every mutant.
 //!
+//! With the cargo feature `synth-netlist`, `rtl/synth/synth.sh generic`
+//! (Yosys' generic `synth`, flattened, `PP_TRACE`, exact methods) writes the
+//! pixel processor as gates and flip-flops, and it is verilated as
+//! `Vpixel_processor_synth_exact_exact` (listed in
+//! `rtcosim_pp_synth_models.h`, empty without the feature), for
+//! `PixelProcessor::new_synth`: the netlist that would be built, co-simulated
+//! against golden (tests/synth_netlist.rs). The netlist is kept under
+//! `OUT_DIR` with the hash of the RTL it was made from.
+//!
 //! Every model's fast code is compiled at -O3 and its slow code (Verilator's
 //! `*__Slow.cpp`: constructors, the seed tables' initialisation, initial and
 //! settle evaluation, run once per model) at -O0, as Verilator's own makefile
@@ -86,6 +95,17 @@ enum Flavour {
     /// Yosys' netlist of the processor with every mutant behind `mutsel`
     /// ([`MUT_PREFIX`]; only with the cargo feature `mutation`).
     Mutant,
+    /// Yosys' generic synthesis of the processor ([`SYNTH_PREFIX`]; only
+    /// with the cargo feature `synth-netlist`).
+    Synth,
+}
+
+impl Flavour {
+    /// Verilated from a netlist Yosys wrote, elaborated there: defines,
+    /// parameters and methods are in, the exact pair only.
+    fn is_yosys_netlist(self) -> bool {
+        matches!(self, Flavour::Mutant | Flavour::Synth)
+    }
 }
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
@@ -145,6 +165,10 @@ const COV_PREFIX: &str = "Vpixel_processor_cov";
 /// The mutant model (cargo feature `mutation`) is
 /// `<MUT_PREFIX>_exact_exact`.
 const MUT_PREFIX: &str = "Vpixel_processor_mut";
+
+/// The synthesized netlist (cargo feature `synth-netlist`) is
+/// `<SYNTH_PREFIX>_exact_exact`.
+const SYNTH_PREFIX: &str = "Vpixel_processor_synth";
 
 /// The float units `mutants.sh netlist` cuts from the mutated design, each
 /// verilated as `V<unit>_mut` (the exact methods, as in the processor), and
@@ -255,9 +279,12 @@ fn run() -> Result<(), String> {
     // the controller's cover points (harness::coverage), compiled at -O1.
     // With the feature `mutation`, Yosys' netlist carrying every mutant
     // (harness::mutation): the exact pair only, the methods the mutants
-    // were listed with, baked into the netlist.
+    // were listed with, baked into the netlist. With the feature
+    // `synth-netlist`, Yosys' generic synthesis of it: the exact pair only,
+    // compiled at -O1.
     let coverage = env::var_os("CARGO_FEATURE_COVERAGE").is_some();
     let mutation = env::var_os("CARGO_FEATURE_MUTATION").is_some();
+    let synth = env::var_os("CARGO_FEATURE_SYNTH_NETLIST").is_some();
     let mut flavours = vec![Flavour::Plain, Flavour::Wave];
     let mut pp_cov_sources = Vec::new();
     if coverage {
@@ -281,6 +308,11 @@ fn run() -> Result<(), String> {
             fp_mut_sources.push((top, model, vec![netlist.with_extension(format!("{top}.v"))]));
         }
         pp_mut_sources.push(netlist);
+    }
+    let mut pp_synth_sources = Vec::new();
+    if synth {
+        flavours.push(Flavour::Synth);
+        pp_synth_sources.push(write_synth_netlist(&manifest, &out)?);
     }
     for (top, _, sources) in &fp_mut_sources {
         models.push(Model {
@@ -306,10 +338,11 @@ fn run() -> Result<(), String> {
     let mut wave_variants = Vec::new();
     let mut cov_variants = Vec::new();
     let mut mut_variants = Vec::new();
+    let mut synth_variants = Vec::new();
     for (recip, recip_code) in &methods {
         for (sqrt, sqrt_code) in &methods {
             for &flavour in &flavours {
-                if flavour == Flavour::Mutant
+                if flavour.is_yosys_netlist()
                     && (recip.as_str(), sqrt.as_str()) != ("exact", "exact")
                 {
                     continue;
@@ -319,6 +352,7 @@ fn run() -> Result<(), String> {
                     Flavour::Wave => (WAVE_PREFIX, &mut wave_variants),
                     Flavour::Coverage => (COV_PREFIX, &mut cov_variants),
                     Flavour::Mutant => (MUT_PREFIX, &mut mut_variants),
+                    Flavour::Synth => (SYNTH_PREFIX, &mut synth_variants),
                 };
                 let params = vec![("RECIP_METHOD", *recip_code), ("SQRT_METHOD", *sqrt_code)];
                 let (defines, includes, sources, params) = match flavour {
@@ -336,6 +370,7 @@ fn run() -> Result<(), String> {
                     ),
                     // Elaborated by Yosys: defines and parameters are in.
                     Flavour::Mutant => (vec![], vec![], &pp_mut_sources, vec![]),
+                    Flavour::Synth => (vec![], vec![], &pp_synth_sources, vec![]),
                 };
                 let prefix = format!("{base}_{recip}_{sqrt}");
                 variants.push((prefix.clone(), *recip_code, *sqrt_code));
@@ -370,6 +405,11 @@ fn run() -> Result<(), String> {
         &out.join("rtcosim_pp_mut_models.h"),
         "RTCOSIM_PP_MUT_MODELS",
         &mut_variants,
+    )?;
+    write_pp_models(
+        &out.join("rtcosim_pp_synth_models.h"),
+        "RTCOSIM_PP_SYNTH_MODELS",
+        &synth_variants,
     )?;
     // The top (rtl/top.v) with its trace ports, for the N and method pairs
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
@@ -434,7 +474,9 @@ fn run() -> Result<(), String> {
     let mut model_files = Vec::new();
     let mut slow_files = Vec::new();
     let mut wave_files = Vec::new();
-    let mut cov_files = Vec::new();
+    // Compiled at -O1: the coverage models' and the synthesized netlist's
+    // fast code (see below).
+    let mut o1_files = Vec::new();
     let mut globals = BTreeSet::new();
     for (files, model) in results.into_iter().zip(&models) {
         for f in files? {
@@ -442,8 +484,8 @@ fn run() -> Result<(), String> {
                 globals.insert(f.path);
             } else if model.flavour == Flavour::Wave {
                 wave_files.push(f.path);
-            } else if model.flavour == Flavour::Coverage && !f.slow {
-                cov_files.push(f.path);
+            } else if matches!(model.flavour, Flavour::Coverage | Flavour::Synth) && !f.slow {
+                o1_files.push(f.path);
             } else if f.slow {
                 slow_files.push(f.path);
             } else {
@@ -513,15 +555,17 @@ fn run() -> Result<(), String> {
 
     // The coverage models (feature `coverage`): their counters make them
     // slow whatever the optimizer does, and at -O3 their 20 MB of C++ per
-    // variant would double the build; -O1 is a third of its g++ time.
-    if coverage {
-        let mut cov = cc::Build::new();
-        common(&mut cov);
-        cov.files(&cov_files)
+    // variant would double the build; -O1 is a third of its g++ time. The
+    // synthesized netlist (feature `synth-netlist`): 40 MB of fast C++ for
+    // 174,000 gates, run on a few windows only.
+    if !o1_files.is_empty() {
+        let mut o1 = cc::Build::new();
+        common(&mut o1);
+        o1.files(&o1_files)
             .opt_level(1)
             .warnings(false)
             .cargo_warnings(false)
-            .compile("rtcosim_cov_models");
+            .compile("rtcosim_o1_models");
     }
 
     // The models' slow code (constructors, the seed tables' initialisation,
@@ -996,11 +1040,19 @@ fn verilate(v: &Verilator, m: &Model, out: &Path) -> Result<Vec<CppFile>, String
         // untraced models of the same RTL lint clean (tests/rtl_lint.rs).
         cmd.arg("-Wno-MULTIDRIVEN");
     }
-    if m.flavour == Flavour::Mutant {
+    if m.flavour.is_yosys_netlist() {
         // Yosys' netlist: widths it leaves implicit, overlapping case items
         // of its muxes, and multi-bit wires Verilator cannot order bit by bit
         // (it iterates them); none is a fault of the netlist.
         cmd.args(["-Wno-WIDTH", "-Wno-CASEOVERLAP", "-Wno-UNOPTFLAT"]);
+    }
+    if m.flavour == Flavour::Synth {
+        // Verilator 5.006's bit-op-tree optimization (V3Const) computes some
+        // XOR trees of Yosys' gate netlist wrongly: fp_sqrt's remainder came
+        // out with its sign flipped, 1 ULP off, where Icarus on the same
+        // netlist agrees with golden (docs/rtl.md, "The synthesized netlist
+        // co-simulated"). Without that one optimization the netlist agrees.
+        cmd.arg("-fno-const-bit-op-tree");
     }
     for (name, value) in &m.params {
         cmd.arg(format!("-G{name}={value}"));
@@ -1168,5 +1220,52 @@ fn write_mutant_netlist(manifest: &Path, out: &Path) -> Result<PathBuf, String> 
             String::from_utf8_lossy(&o.stderr)
         ));
     }
+    Ok(netlist)
+}
+
+/// Runs `rtl/synth/synth.sh generic pp exact` (Yosys) into `out/synth` and
+/// returns its `netlist.v`: the pixel processor as Yosys' generic gates.
+/// Synthesis takes minutes, so the netlist is kept beside `rtl.hash` (the
+/// FNV-1a 64 of the script and of every source it reads) and made again
+/// only when they change.
+fn write_synth_netlist(manifest: &Path, out: &Path) -> Result<PathBuf, String> {
+    let dir = out.join("synth");
+    let netlist = dir.join("netlist.v");
+    let stamp = dir.join("rtl.hash");
+    let script = manifest.join("rtl/synth/synth.sh");
+    let mut inputs = vec![script.clone()];
+    for d in ["rtl/fp", "rtl/pp"] {
+        let d = manifest.join(d);
+        let mut files: Vec<PathBuf> = fs::read_dir(&d)
+            .map_err(|e| format!("reading {}: {e}", d.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .collect();
+        files.sort();
+        inputs.extend(files);
+    }
+    let mut hashes = String::new();
+    for input in &inputs {
+        hashes += &format!("{} {}\n", fnv1a64(input)?, input.display());
+    }
+    if netlist.exists() && fs::read_to_string(&stamp).ok().as_deref() == Some(hashes.as_str()) {
+        return Ok(netlist);
+    }
+    let o = Command::new("bash")
+        .arg(&script)
+        .args(["generic", "pp", "exact"])
+        .current_dir(manifest)
+        .env("SYNTH_DIR", &dir)
+        .output()
+        .map_err(|e| format!("running {}: {e}", script.display()))?;
+    if !o.status.success() || !netlist.exists() {
+        return Err(format!(
+            "the synthesized netlist (cargo feature `synth-netlist`) needs Yosys \
+             (Debian: apt-get install yosys): {} generic pp exact failed (log: {}):\n{}",
+            script.display(),
+            dir.join("yosys.log").display(),
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    fs::write(&stamp, hashes).map_err(|e| format!("writing {}: {e}", stamp.display()))?;
     Ok(netlist)
 }

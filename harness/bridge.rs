@@ -177,6 +177,10 @@ pub(crate) mod ffi {
         /// mutant 0 selected; fails if it was not built.
         fn new_pixel_proc_mut() -> Result<UniquePtr<PixelProc>>;
 
+        /// Yosys' generic synthesis of the processor (cargo feature
+        /// `synth-netlist`, exact methods); fails if it was not built.
+        fn new_pixel_proc_synth() -> Result<UniquePtr<PixelProc>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless ready is then high.
         fn reset(self: Pin<&mut PixelProc>) -> Result<()>;

@@ -239,6 +239,16 @@ impl PixelProcessor {
         Ok(pp)
     }
 
+    /// Yosys' generic synthesis of the processor (`rtl/synth/synth.sh
+    /// generic`: gates and flip-flops, exact methods; cargo feature
+    /// `synth-netlist`), built and reset: the netlist that would be built,
+    /// driven through the same ports as the RTL.
+    pub fn new_synth() -> Result<PixelProcessor, PpError> {
+        Self::build(Method::Exact, Method::Exact, |_, _| {
+            ffi::new_pixel_proc_synth()
+        })
+    }
+
     /// The same variant verilated with `--trace-fst`, for [`crate::wave`].
     pub(crate) fn new_wave(recip: Method, sqrt: Method) -> Result<PixelProcessor, PpError> {
         Self::build(recip, sqrt, ffi::new_pixel_proc_wave)

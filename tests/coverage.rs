@@ -120,9 +120,12 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
     }
 }
 
+/// A transition by its states' names: (from, to).
+type Transition = (String, String);
+
 /// The directed scenes of rtl/cover/scenes/: (file, scene, the transitions
 /// its `# takes:` line names).
-fn cover_scenes() -> Vec<(String, golden::scene::Scene, Vec<(String, String)>)> {
+fn cover_scenes() -> Vec<(String, golden::scene::Scene, Vec<Transition>)> {
     let dir = root().join("rtl/cover/scenes");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .expect("rtl/cover/scenes")

