@@ -931,12 +931,18 @@ fn write_state_lines(pp_ctrl: &Path, out: &Path) -> Result<(), String> {
 }
 
 fn verilog_sources(dirs: &[&Path]) -> Result<Vec<PathBuf>, String> {
+    files_in(dirs, |p| p.extension().is_some_and(|x| x == "v"))
+}
+
+/// The files of `dirs` that `keep`, sorted per directory, directory by
+/// directory.
+fn files_in(dirs: &[&Path], keep: impl Fn(&Path) -> bool) -> Result<Vec<PathBuf>, String> {
     let mut all = Vec::new();
     for dir in dirs {
         let mut files: Vec<PathBuf> = fs::read_dir(dir)
             .map_err(|e| format!("reading {}: {e}", dir.display()))?
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "v"))
+            .filter(|p| keep(p))
             .collect();
         files.sort();
         all.extend(files);
@@ -1234,15 +1240,10 @@ fn write_synth_netlist(manifest: &Path, out: &Path) -> Result<PathBuf, String> {
     let stamp = dir.join("rtl.hash");
     let script = manifest.join("rtl/synth/synth.sh");
     let mut inputs = vec![script.clone()];
-    for d in ["rtl/fp", "rtl/pp"] {
-        let d = manifest.join(d);
-        let mut files: Vec<PathBuf> = fs::read_dir(&d)
-            .map_err(|e| format!("reading {}: {e}", d.display()))?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .collect();
-        files.sort();
-        inputs.extend(files);
-    }
+    inputs.extend(files_in(
+        &[&manifest.join("rtl/fp"), &manifest.join("rtl/pp")],
+        |_| true,
+    )?);
     let mut hashes = String::new();
     for input in &inputs {
         hashes += &format!("{} {}\n", fnv1a64(input)?, input.display());

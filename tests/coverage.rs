@@ -200,12 +200,26 @@ mod built {
     /// Coverage goes to one directory per process: one test at a time.
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-    #[test]
-    fn each_pixel_is_one_start_and_one_end_transition_and_every_point_is_in_the_report() {
-        let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-        let dir = std::env::temp_dir().join(format!("rtcosim-cov-{}", std::process::id()));
+    /// Coverage on, into a fresh directory `rtcosim-<name>-<pid>` (one test
+    /// at a time: hold the guard until the counts are read).
+    fn coverage_into(name: &str) -> (std::sync::MutexGuard<'static, ()>, std::path::PathBuf) {
+        let one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+        let dir = std::env::temp_dir().join(format!("rtcosim-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         coverage::enable(&dir).expect("the coverage build");
+        (one, dir)
+    }
+
+    /// The count of transition `a -> b`, if the data has its point.
+    fn taken(data: &coverage::CoverageData, a: &str, b: &str) -> Option<u64> {
+        data.points()
+            .find(|p| p.transition() == Some((a, b)))
+            .map(|p| p.count)
+    }
+
+    #[test]
+    fn each_pixel_is_one_start_and_one_end_transition_and_every_point_is_in_the_report() {
+        let (_one, dir) = coverage_into("cov");
         let scene = rtcosim::scenes::load_with(
             "reference",
             rtcosim::scenes::Overrides {
@@ -226,10 +240,7 @@ mod built {
         let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");
         let data = coverage::collect(&dir.join("coverage.dat")).expect("merged");
         let count = |a: &str, b: &str| {
-            data.points()
-                .find(|p| p.transition() == Some((a, b)))
-                .map(|p| p.count)
-                .unwrap_or_else(|| panic!("no point for {a} -> {b}"))
+            taken(&data, a, b).unwrap_or_else(|| panic!("no point for {a} -> {b}"))
         };
         assert_eq!(count("IDLE", "PRI_ITOF"), window.pixels());
         assert_eq!(count("PIX_DONE", "IDLE"), window.pixels());
@@ -260,10 +271,7 @@ mod built {
 
     #[test]
     fn every_cover_scene_takes_the_transitions_it_names_and_none_argued_unreachable() {
-        let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-        let dir = std::env::temp_dir().join(format!("rtcosim-cov-scenes-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        coverage::enable(&dir).expect("the coverage build");
+        let (_one, dir) = coverage_into("cov-scenes");
         let scenes = cover_scenes();
         for (file, scene, _) in &scenes {
             let report = cosim::run(
@@ -279,10 +287,7 @@ mod built {
         let data = coverage::collect(&dir.join("coverage.dat")).expect("merged");
         for (file, _, takes) in &scenes {
             for (a, b) in takes {
-                let count = data
-                    .points()
-                    .find(|p| p.transition() == Some((a, b)))
-                    .map_or(0, |p| p.count);
+                let count = taken(&data, a, b).unwrap_or(0);
                 assert!(count > 0, "{file} never took {a} -> {b}");
             }
         }

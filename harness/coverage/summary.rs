@@ -283,36 +283,41 @@ impl Summary {
         for s in &self.states_missed {
             let _ = writeln!(md, "- {s}");
         }
-        if !self.argued_but_taken.is_empty() {
-            let _ = write!(
-                md,
-                "\n## Argued unreachable ({UNREACHABLE_PATH}) but taken ({}): the argument is wrong\n\n",
-                self.argued_but_taken.len()
-            );
-            for (a, b, l) in &self.argued_but_taken {
-                let _ = writeln!(md, "- {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
+        // A section of transitions, one line each with its table line.
+        let transitions = |md: &mut String, heading: String, lines: Vec<String>| {
+            let _ = write!(md, "\n## {heading} ({})\n\n", lines.len());
+            for l in lines {
+                let _ = writeln!(md, "- {l}");
             }
-        }
-        let _ = write!(
-            md,
-            "\n## Transitions never taken, not argued unreachable ({})\n\n",
-            self.transitions_missed.len()
-        );
-        for (a, b, l) in &self.transitions_missed {
-            let _ = writeln!(md, "- {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
-        }
-        let _ = write!(
-            md,
-            "\n## Transitions never taken, argued unreachable ({}; the groups' arguments: {UNREACHABLE_PATH})\n\n",
-            self.transitions_argued.len()
-        );
-        for (t, l) in &self.transitions_argued {
-            let _ = writeln!(
-                md,
-                "- {} -> {} (rtl/cover/pp_ctrl.transitions:{l}): {}",
-                t.from, t.to, t.group
+        };
+        let at =
+            |a: &str, b: &str, l: u32| format!("{a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
+        if !self.argued_but_taken.is_empty() {
+            transitions(
+                &mut md,
+                format!("Argued unreachable ({UNREACHABLE_PATH}) but taken: the argument is wrong"),
+                self.argued_but_taken
+                    .iter()
+                    .map(|(a, b, l)| at(a, b, *l))
+                    .collect(),
             );
         }
+        transitions(
+            &mut md,
+            "Transitions never taken, not argued unreachable".into(),
+            self.transitions_missed
+                .iter()
+                .map(|(a, b, l)| at(a, b, *l))
+                .collect(),
+        );
+        transitions(
+            &mut md,
+            format!("Transitions never taken, argued unreachable (the groups' arguments: {UNREACHABLE_PATH})"),
+            self.transitions_argued
+                .iter()
+                .map(|(t, l)| format!("{}: {}", at(&t.from, &t.to, *l), t.group))
+                .collect(),
+        );
         let _ = write!(
             md,
             "\n## Lines and branches never run ({})\n\n",
