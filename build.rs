@@ -246,6 +246,9 @@ fn run() -> Result<(), String> {
     write_state_lines(&pp_dir.join("pp_ctrl.v"), &out.join("rtl_state_lines.rs"))?;
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let fp_sources = verilog_sources(&[&fp_dir])?;
+    // The fast processor's pipelined units (rtl/fast/) use fp_lzc.
+    let fast_dir = manifest.join("rtl/fast");
+    let fast_sources = verilog_sources(&[&fast_dir, &fp_dir])?;
     let pp_sources = verilog_sources(&[&pp_dir, &fp_dir])?;
     let top_sources: Vec<PathBuf> = std::iter::once(manifest.join("rtl/top.v"))
         .chain(pp_sources.iter().cloned())
@@ -269,6 +272,13 @@ fn run() -> Result<(), String> {
         for (name, code) in &methods {
             models.push(unit(top, format!("V{top}_{name}"), vec![("METHOD", *code)]));
         }
+    }
+    for top in ["fast_fp_add", "fast_fp_mul"] {
+        models.push(Model {
+            includes: vec![fast_dir.clone(), fp_dir.clone()],
+            sources: &fast_sources,
+            ..unit(top, format!("V{top}"), vec![])
+        });
     }
     // The pixel processor, with its trace and fault ports, once per
     // (recip, sqrt) method pair: every combination.

@@ -19,6 +19,8 @@ pub(crate) mod ffi {
         SqrtExact,
         SqrtFast,
         Exp,
+        FastAdd,
+        FastMul,
     }
 
     /// One trace event as the RTL's trace port shows it (the pixel and the
@@ -137,6 +139,12 @@ pub(crate) mod ffi {
         /// exact methods), mutant `mutant` selected (0: the design as
         /// written); fails if it was not built.
         fn new_fp_unit_mut(model: FpModel, mutant: u16) -> Result<UniquePtr<FpUnit>>;
+
+        /// A pipelined unit of `rtl/fast/` (FastAdd, FastMul): `eval` puts
+        /// one operation in every cycle and reads each result `latency`
+        /// edges after its operands (`cycles[i]` = `latency`); fails for
+        /// any other model.
+        fn new_fp_unit_pipelined(model: FpModel, latency: u32) -> Result<UniquePtr<FpUnit>>;
 
         /// Evaluates `y[i] = unit(a[i], b[i])` for every `i`; `b` is ignored by
         /// unary units. For multi-cycle units, `cycles[i]` receives the clock

@@ -1,4 +1,6 @@
-//! The float units of `rtl/fp/`, each verilated on its own.
+//! The float units of `rtl/fp/` (the compact processor's) and the
+//! pipelined ones of `rtl/fast/` (the fast processor's), each verilated on
+//! its own.
 
 use crate::bridge::ffi;
 use cxx::UniquePtr;
@@ -19,10 +21,15 @@ pub enum UnitKind {
     Sqrt(Method),
     /// `fp_exp`: `y = e^a`, multi-cycle, one method (within 1 ULP).
     Exp,
+    /// `fast_fp_add`: [`UnitKind::Add`] pipelined (`rtl/fast/`).
+    FastAdd,
+    /// `fast_fp_mul`: [`UnitKind::Mul`] pipelined (`rtl/fast/`).
+    FastMul,
 }
 
 impl UnitKind {
-    /// Every unit and method that is verilated, in table order.
+    /// Every unit and method of `rtl/fp/`, in table order (the mutant
+    /// netlist cuts these).
     pub const ALL: [UnitKind; 8] = [
         UnitKind::Add,
         UnitKind::Mul,
@@ -34,6 +41,31 @@ impl UnitKind {
         UnitKind::Exp,
     ];
 
+    /// The pipelined units of `rtl/fast/`, in table order.
+    pub const PIPELINED: [UnitKind; 2] = [UnitKind::FastAdd, UnitKind::FastMul];
+
+    /// Every unit that is verilated: [`UnitKind::ALL`], then
+    /// [`UnitKind::PIPELINED`].
+    pub fn every() -> impl Iterator<Item = UnitKind> {
+        UnitKind::ALL.into_iter().chain(UnitKind::PIPELINED)
+    }
+
+    /// The unit of `rtl/fp/` with the same arithmetic: a pipelined unit's
+    /// results are its results bit for bit; itself for the others.
+    pub const fn arithmetic(self) -> UnitKind {
+        match self {
+            UnitKind::FastAdd => UnitKind::Add,
+            UnitKind::FastMul => UnitKind::Mul,
+            other => other,
+        }
+    }
+
+    /// Whether the unit is pipelined: no handshake, an operation entering
+    /// every cycle, each result [`UnitKind::latency`] edges after it.
+    pub const fn is_pipelined(self) -> bool {
+        matches!(self, UnitKind::FastAdd | UnitKind::FastMul)
+    }
+
     /// The Verilog module.
     pub const fn module(self) -> &'static str {
         match self {
@@ -43,6 +75,8 @@ impl UnitKind {
             UnitKind::Recip(_) => "fp_recip",
             UnitKind::Sqrt(_) => "fp_sqrt",
             UnitKind::Exp => "fp_exp",
+            UnitKind::FastAdd => "fast_fp_add",
+            UnitKind::FastMul => "fast_fp_mul",
         }
     }
 
@@ -57,16 +91,19 @@ impl UnitKind {
 
     /// Whether the unit reads operand `b`.
     pub const fn is_binary(self) -> bool {
-        matches!(self, UnitKind::Add | UnitKind::Mul)
+        matches!(self.arithmetic(), UnitKind::Add | UnitKind::Mul)
     }
 
     /// Clock edges from `in_valid` to `out_valid` that the golden model
-    /// promises; 0 for combinational units.
+    /// promises, or from the operands to the result of a pipelined unit; 0
+    /// for combinational units.
     pub const fn latency(self) -> u32 {
         match self {
             UnitKind::Recip(m) => golden::fp::recip_latency(m),
             UnitKind::Sqrt(m) => golden::fp::sqrt_latency(m),
             UnitKind::Exp => golden::fp::exp_latency(),
+            UnitKind::FastAdd => golden::fp::pipelined::ADD_LATENCY,
+            UnitKind::FastMul => golden::fp::pipelined::MUL_LATENCY,
             _ => 0,
         }
     }
@@ -75,13 +112,14 @@ impl UnitKind {
     pub fn golden(self, a: u32, b: u32) -> u32 {
         use golden::fp;
         let (fa, fb) = (f32::from_bits(a), f32::from_bits(b));
-        match self {
-            UnitKind::Add => fp::add(fa, fb).to_bits(),
-            UnitKind::Mul => fp::mul(fa, fb).to_bits(),
+        match self.arithmetic() {
             UnitKind::Itof => fp::itof(a as i32).to_bits(),
             UnitKind::Recip(m) => fp::recip(fa, m).to_bits(),
             UnitKind::Sqrt(m) => fp::sqrt(fa, m).to_bits(),
             UnitKind::Exp => fp::exp(fa).to_bits(),
+            // arithmetic() is never a pipelined unit.
+            UnitKind::Add | UnitKind::FastAdd => fp::add(fa, fb).to_bits(),
+            UnitKind::Mul | UnitKind::FastMul => fp::mul(fa, fb).to_bits(),
         }
     }
 
@@ -106,6 +144,8 @@ impl UnitKind {
             UnitKind::Sqrt(Method::Exact) => ffi::FpModel::SqrtExact,
             UnitKind::Sqrt(Method::Fast) => ffi::FpModel::SqrtFast,
             UnitKind::Exp => ffi::FpModel::Exp,
+            UnitKind::FastAdd => ffi::FpModel::FastAdd,
+            UnitKind::FastMul => ffi::FpModel::FastMul,
         }
     }
 }
@@ -145,7 +185,19 @@ pub const DEFAULT_TIMEOUT_CYCLES: u32 = 1000;
 impl FpUnit {
     /// Builds and resets the verilated model of `kind`.
     pub fn new(kind: UnitKind) -> Result<FpUnit, UnitError> {
+        if kind.is_pipelined() {
+            // Each result is read the promised number of edges after its
+            // operands: a unit that takes more or fewer mismatches.
+            return Self::new_pipelined(kind, kind.latency());
+        }
         Self::wrap(kind, ffi::new_fp_unit(kind.model()))
+    }
+
+    /// A pipelined unit read `latency` edges after each operation enters;
+    /// [`FpUnit::new`] reads it at [`UnitKind::latency`]. Another latency is
+    /// the checker's self-test. An error for a unit that is not pipelined.
+    pub fn new_pipelined(kind: UnitKind, latency: u32) -> Result<FpUnit, UnitError> {
+        Self::wrap(kind, ffi::new_fp_unit_pipelined(kind.model(), latency))
     }
 
     /// The unit as cut from the mutant netlist (cargo feature `mutation`;

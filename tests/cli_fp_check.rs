@@ -6,7 +6,7 @@
 mod common;
 
 use common::{assert_refused, both, rtcosim, text};
-use golden::fp::{exp_latency, recip_latency, sqrt_latency, Method};
+use golden::fp::{exp_latency, pipelined, recip_latency, sqrt_latency, Method};
 
 /// One row of the table: unit, cycles, operands, mismatches, worst error
 /// in ULPs.
@@ -88,7 +88,7 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
     let header = stdout.lines().next().expect("a header");
     assert!(
         header.starts_with(
-            "rtcosim fp-check: 8 units, 3000 random operands, seed 5, 2 threads, Verilator "
+            "rtcosim fp-check: 10 units, 3000 random operands, seed 5, 2 threads, Verilator "
         ),
         "{header}"
     );
@@ -105,6 +105,9 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
         ("fp_sqrt(exact)", cycles(sqrt_latency(Method::Exact)), 0),
         ("fp_sqrt(fast)", cycles(sqrt_latency(Method::Fast)), 1),
         ("fp_exp", cycles(exp_latency()), 1),
+        // The fast processor's pipelined units (rtl/fast/).
+        ("fast_fp_add", cycles(pipelined::ADD_LATENCY), 0),
+        ("fast_fp_mul", cycles(pipelined::MUL_LATENCY), 0),
     ];
     let names: Vec<&str> = with.iter().map(|r| r.unit.as_str()).collect();
     let want_names: Vec<&str> = want.iter().map(|w| w.0).collect();

@@ -1,9 +1,11 @@
-//! Co-simulation of every float unit in rtl/fp against golden::fp.
+//! Co-simulation of every float unit in rtl/fp, and of the pipelined ones
+//! in rtl/fast, against golden::fp.
 //!
 //! A pass means the verilated RTL produced, operand by operand, the same bits
 //! as the golden model (NaNs too: both give the canonical NaN), in exactly the number
-//! of cycles the golden model promises. The `checker_*` tests prove the
-//! comparison can fail.
+//! of cycles the golden model promises; a pipelined unit takes an operation
+//! every cycle, back to back, and is read that many edges later. The
+//! `checker_*` tests prove the comparison can fail.
 
 use golden::fp::{Method, UlpDistance};
 use rtcosim::fp_check::{self, check_batch, CheckReport, Operands};
@@ -86,6 +88,8 @@ unit_tests! {
     fp_sqrt_exact: UnitKind::Sqrt(Method::Exact),
     fp_sqrt_fast: UnitKind::Sqrt(Method::Fast),
     fp_exp: UnitKind::Exp,
+    fast_fp_add: UnitKind::FastAdd,
+    fast_fp_mul: UnitKind::FastMul,
 }
 
 fn eval_one(kind: UnitKind, a: u32, b: u32) -> Result<u32, UnitError> {
@@ -122,7 +126,14 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         (UnitKind::Exp, 0x42B2_0000, 0, 0x7F80_0000),                // e^89 overflows
         (UnitKind::Exp, 0xBF80_0000, 0, 0x3EBC_5AB2), // e^-1 = 0.36787944 (correctly rounded)
     ];
-    for &(kind, a, b, want) in cases {
+    // The pipelined units, on their compact twins' cases.
+    let pipelined = UnitKind::PIPELINED.iter().flat_map(|&fast| {
+        cases
+            .iter()
+            .filter(move |c| c.0 == fast.arithmetic())
+            .map(move |&(_, a, b, want)| (fast, a, b, want))
+    });
+    for (kind, a, b, want) in cases.iter().copied().chain(pipelined) {
         let y = eval_one(kind, a, b)?;
         assert_eq!(y, want, "{kind}({a:#010x}, {b:#010x})");
     }
@@ -140,7 +151,12 @@ fn specials_come_out_as_ieee_says() -> Result<(), UnitError> {
         (UnitKind::Exp, 0xFFC0_1234, 0),           // negative NaN with a payload in
         (UnitKind::Exp, 0x7F80_0001, 0),           // signalling NaN in
     ];
-    for &(kind, a, b) in nans {
+    let pipelined = UnitKind::PIPELINED.iter().flat_map(|&fast| {
+        nans.iter()
+            .filter(move |c| c.0 == fast.arithmetic())
+            .map(move |&(_, a, b)| (fast, a, b))
+    });
+    for (kind, a, b) in nans.iter().copied().chain(pipelined) {
         let y = eval_one(kind, a, b)?;
         assert_eq!(
             y,
@@ -234,6 +250,28 @@ fn checker_tells_the_fast_reciprocal_from_the_exact_one() -> Result<(), UnitErro
     Ok(())
 }
 
+/// A pipelined unit read one edge early or late (the latency golden
+/// promises off by one) is caught: its results land on the wrong operands.
+#[test]
+fn checker_catches_a_pipelined_unit_read_at_the_wrong_latency() -> Result<(), UnitError> {
+    for kind in UnitKind::PIPELINED {
+        let (a, b) = operands::random_chunk(kind, SEED, 0, 2_000);
+        let golden = |x: u32, y: u32| kind.golden(x, y);
+        let right = check_batch(&mut FpUnit::new(kind)?, &golden, &a, &b)?;
+        assert_eq!(right.mismatches, 0, "{kind} at its latency");
+        for latency in [kind.latency() - 1, kind.latency() + 1] {
+            let mut unit = FpUnit::new_pipelined(kind, latency)?;
+            let report = check_batch(&mut unit, &golden, &a, &b)?;
+            assert!(
+                report.mismatches > 1_900,
+                "{kind} read after {latency} edges: only {} of 2000 mismatch",
+                report.mismatches
+            );
+        }
+    }
+    Ok(())
+}
+
 #[test]
 fn a_unit_that_does_not_answer_in_time_is_an_error_naming_the_operand() -> Result<(), UnitError> {
     let mut unit = FpUnit::new(UnitKind::Sqrt(Method::Exact))?;
@@ -295,7 +333,7 @@ fn exp_range_finds_no_mismatch() -> Result<(), UnitError> {
 #[test]
 #[ignore = "about an hour on two cores; cargo test --release -- --ignored"]
 fn long_sweep_finds_no_mismatch() -> Result<(), UnitError> {
-    for kind in UnitKind::ALL {
+    for kind in UnitKind::every() {
         let source = if kind.is_binary() {
             Operands::Random {
                 seed: SEED + 1,

@@ -1,4 +1,5 @@
-//! `rtcosim fp-check`: the float units of rtl/fp against golden::fp.
+//! `rtcosim fp-check`: the float units of rtl/fp (and the pipelined ones of
+//! rtl/fast) against golden::fp.
 
 use crate::args::ThreadsArgs;
 use crate::ui::{plural, progress_bar};
@@ -11,7 +12,7 @@ use std::io::Write;
 
 #[derive(clap::Args, Debug)]
 pub struct FpCheckArgs {
-    /// Units to check (default: all).
+    /// Units to check (default: all, the pipelined fast-add and fast-mul too).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub unit: Vec<UnitArg>,
     /// Random operands per unit.
@@ -38,6 +39,8 @@ pub enum UnitArg {
     SqrtExact,
     SqrtFast,
     Exp,
+    FastAdd,
+    FastMul,
 }
 
 impl From<UnitArg> for UnitKind {
@@ -51,6 +54,8 @@ impl From<UnitArg> for UnitKind {
             UnitArg::SqrtExact => UnitKind::Sqrt(Method::Exact),
             UnitArg::SqrtFast => UnitKind::Sqrt(Method::Fast),
             UnitArg::Exp => UnitKind::Exp,
+            UnitArg::FastAdd => UnitKind::FastAdd,
+            UnitArg::FastMul => UnitKind::FastMul,
         }
     }
 }
@@ -65,7 +70,7 @@ fn check(args: &FpCheckArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     let threads = rayon::current_num_threads();
     let units: Vec<UnitKind> = if args.unit.is_empty() {
-        UnitKind::ALL.to_vec()
+        UnitKind::every().collect()
     } else {
         args.unit.iter().map(|&u| u.into()).collect()
     };

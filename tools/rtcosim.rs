@@ -53,8 +53,9 @@ enum Command {
     /// frame file (.exr); per-side methods with --a-recip, --b-sqrt, ...
     /// Exits 0 when the maps are written, 2 on an error.
     Diffmap(diffmap::DiffMapArgs),
-    /// Co-simulate the float units of rtl/fp against golden::fp: edge cases,
-    /// then seeded random operands (or every input, for unary units).
+    /// Co-simulate the float units of rtl/fp, and the fast processor's
+    /// pipelined ones of rtl/fast, against golden::fp: edge cases, then seeded
+    /// random operands (or every input, for unary units).
     FpCheck(fp_check::FpCheckArgs),
     /// Generate random scene files and co-simulate each one that loads;
     /// each must be refused at load or agree everywhere, with finite

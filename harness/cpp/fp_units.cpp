@@ -3,6 +3,8 @@
 // Combinational units: set inputs, eval, read y. Multi-cycle units: one
 // operation at a time through the in_valid/out_valid handshake, counting
 // clock edges, with a timeout so a hung unit is an error, not a hang.
+// Pipelined units (rtl/fast/): one operation enters every cycle, back to
+// back, and each result is read the promised latency later.
 
 #include "fp_units.h"
 
@@ -15,6 +17,8 @@
 #include "verilated.h"
 #include "verilated_owned.h"
 
+#include "Vfast_fp_add.h"
+#include "Vfast_fp_mul.h"
 #include "Vfp_add.h"
 #include "Vfp_exp.h"
 #include "Vfp_itof.h"
@@ -114,6 +118,46 @@ private:
     Owned<M> owned_;
 };
 
+// A pipelined unit: operands a[i], b[i] enter before edge i + 1 (one every
+// cycle, no gaps), and y after edge i + latency is result i. The pipeline is
+// flushed with zeros after the last operand.
+template <class M, bool Binary>
+class PipeUnit final : public FpUnit {
+public:
+    PipeUnit(const char* name, std::uint32_t latency) : name_(name), latency_(latency) {
+        if (latency == 0) throw std::invalid_argument(std::string(name) + ": a pipelined unit has latency >= 1");
+        M& m = *owned_.model;
+        m.clk = 0;
+        m.a = 0;
+        if constexpr (Binary) m.b = 0;
+        m.eval();
+    }
+    void eval(rust::Slice<const std::uint32_t> a, rust::Slice<const std::uint32_t> b, rust::Slice<std::uint32_t> y,
+              rust::Slice<std::uint32_t> cycles, std::uint32_t) override {
+        check_lengths(name_, a.size(), b.size(), y.size(), cycles.size(), Binary);
+        M& m = *owned_.model;
+        const std::size_t n = a.size();
+        for (std::size_t edge = 1; edge < n + latency_; ++edge) {
+            const std::size_t in = edge - 1;
+            m.a = in < n ? a[in] : 0;
+            if constexpr (Binary) m.b = in < n ? b[in] : 0;
+            m.clk = 0;
+            m.eval();
+            m.clk = 1;
+            m.eval();
+            if (edge >= latency_) {
+                y[edge - latency_] = m.y;
+                cycles[edge - latency_] = latency_;
+            }
+        }
+    }
+
+private:
+    const char* name_;
+    std::uint32_t latency_;
+    Owned<M> owned_;
+};
+
 // Whether a model has a clock (a multi-cycle unit) or a `b` operand.
 template <class M, class = void>
 struct IsClocked : std::false_type {};
@@ -146,6 +190,16 @@ std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, [[maybe_unused]] std::uin
                           : " (it is built with the cargo feature `mutation`: cargo build --release --features mutation)"));
 }
 
+std::unique_ptr<FpUnit> new_fp_unit_pipelined(FpModel model, std::uint32_t latency) {
+    switch (model) {
+        case FpModel::FastAdd: return std::make_unique<PipeUnit<Vfast_fp_add, true>>("fast_fp_add", latency);
+        case FpModel::FastMul: return std::make_unique<PipeUnit<Vfast_fp_mul, true>>("fast_fp_mul", latency);
+        default: break;
+    }
+    throw std::invalid_argument("float unit model " + std::to_string(static_cast<int>(model)) +
+                                " is not a pipelined unit");
+}
+
 std::unique_ptr<FpUnit> new_fp_unit(FpModel model) {
     switch (model) {
         case FpModel::Add: return std::make_unique<CombUnit<Vfp_add, true>>("fp_add");
@@ -156,6 +210,8 @@ std::unique_ptr<FpUnit> new_fp_unit(FpModel model) {
         case FpModel::SqrtExact: return std::make_unique<SeqUnit<Vfp_sqrt_exact>>("fp_sqrt(exact)");
         case FpModel::SqrtFast: return std::make_unique<SeqUnit<Vfp_sqrt_fast>>("fp_sqrt(fast)");
         case FpModel::Exp: return std::make_unique<SeqUnit<Vfp_exp>>("fp_exp");
+        case FpModel::FastAdd:
+        case FpModel::FastMul: break;  // new_fp_unit_pipelined
     }
     throw std::invalid_argument("unknown float unit model " + std::to_string(static_cast<int>(model)));
 }

@@ -7,6 +7,10 @@
 #   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
 #   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (tests/synth/fp_reg.v);
 #                                          # mul: fp_mul (methods: no effect)
+#   rtl/synth/synth.sh xc6v fast-add exact # fast_fp_add (rtl/fast/) between registers;
+#                                          # fast-mul: fast_fp_mul (docs/fast.md)
+#   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
+#                                          # (tests/synth/ctrl_reg.v; docs/fast.md)
 #   rtl/synth/synth.sh generic pp exact    # pixel_processor as Yosys' generic gates, with its
 #                                          # trace and fault ports (PP_TRACE), written as
 #                                          # netlist.v for co-simulation (docs/netlist.md)
@@ -21,7 +25,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5 pp|top|add|mul exact|fast [N]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|ctrl exact|fast [N]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -65,12 +69,21 @@ top)
     params="$params -chparam N $n"
     out=$device-top-$methods-N$n
     ;;
-add | mul)
+add | mul | fast-add | fast-mul)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
     top=fp_reg
-    read="read_verilog $inc rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v rtl/fp/fp_$design.v tests/synth/fp_reg.v"
-    params="-chparam MUL $([ "$design" = mul ] && echo 1 || echo 0)"
+    read="read_verilog $inc -Irtl/fast rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v \
+rtl/fp/fp_add.v rtl/fp/fp_mul.v $(echo rtl/fast/*.v) tests/synth/fp_reg.v"
+    case $design in add) unit=0 ;; mul) unit=1 ;; fast-add) unit=2 ;; fast-mul) unit=3 ;; esac
+    params="-chparam UNIT $unit"
     out=$device-$design
+    ;;
+ctrl)
+    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    top=ctrl_reg
+    read="read_verilog $inc rtl/pp/pp_ctrl.v tests/synth/ctrl_reg.v"
+    params=""
+    out=$device-ctrl
     ;;
 *) usage ;;
 esac

@@ -76,6 +76,58 @@ pub fn compile_mutants(dir: &Path, netlist: &Path) -> PathBuf {
     vvp
 }
 
+/// Compiles the fast processor's pipelined units (rtl/fast, rtl/fp) with
+/// tests/icarus/fast_fp_tb.v.
+pub fn compile_fast_units(dir: &Path) -> PathBuf {
+    let (includes, sources) = super::fast_tree();
+    let vvp = dir.join("fast_fp_tb.vvp");
+    iverilog(&vvp, "fast_fp_tb", &includes, &sources, &[], &[]);
+    vvp
+}
+
+/// Runs fast_fp_tb on the vectors (a, b, golden a + b, golden a * b),
+/// written to `dir`/`name`.hex: its summary, (add mismatches, mul
+/// mismatches), and its whole stdout.
+pub fn run_fast_units(
+    vvp: &Path,
+    dir: &Path,
+    name: &str,
+    vectors: &[[u32; 4]],
+) -> ((u64, u64), String) {
+    let file = dir.join(format!("{name}.hex"));
+    let mut text = String::new();
+    for [a, b, add, mul] in vectors {
+        writeln!(text, "{a:08x}{b:08x}{add:08x}{mul:08x}").expect("string");
+    }
+    std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(vvp)
+        .arg(format!("+vectors={}", file.display()))
+        .output()
+        .expect("running vvp");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let summary = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("fast_fp_tb: "))
+        .unwrap_or_else(|| panic!("no summary from fast_fp_tb:\n{stdout}"));
+    let words: Vec<&str> = summary.split_whitespace().collect();
+    // "N vectors, add mismatches A, mul mismatches M"
+    assert_eq!(
+        words[0],
+        vectors.len().to_string(),
+        "vectors read: {summary}"
+    );
+    let count = |i: usize| -> u64 {
+        words[i]
+            .trim_end_matches(',')
+            .parse()
+            .unwrap_or_else(|_| panic!("{summary}"))
+    };
+    ((count(4), count(7)), stdout)
+}
+
 /// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.
 fn iverilog(
     vvp: &Path,

@@ -11,26 +11,33 @@ use std::process::Command;
 /// rtl/fp and rtl/pp: the include directories; and every Verilog source in
 /// them and in rtl/ itself (the top module), sorted (as a reviewer would
 /// read the tree).
-pub fn rtl_tree() -> ([PathBuf; 2], Vec<PathBuf>) {
+pub fn rtl_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
+    rtl_files(&["fp", "pp"], true)
+}
+
+/// The fast processor's tree so far: rtl/fast and rtl/fp (whose fp_lzc its
+/// units use), include directories and every source, sorted.
+pub fn fast_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
+    rtl_files(&["fast", "fp"], false)
+}
+
+/// The directories `dirs` of rtl/ and their `*.v` files, with rtl/'s own
+/// when `with_top`, sorted.
+fn rtl_files(dirs: &[&str], with_top: bool) -> (Vec<PathBuf>, Vec<PathBuf>) {
     let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl");
-    let dirs = [rtl.join("fp"), rtl.join("pp")];
-    let mut files = Vec::new();
-    for dir in &dirs {
-        let listing =
-            std::fs::read_dir(dir).unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()));
-        files.extend(
-            listing
-                .map(|e| e.expect("listing rtl/").path())
-                .filter(|p| p.extension().is_some_and(|x| x == "v")),
-        );
-    }
-    // The top module, rtl/top.v, beside the two directories.
-    files.extend(
-        std::fs::read_dir(&rtl)
-            .unwrap_or_else(|e| panic!("reading {}: {e}", rtl.display()))
+    let dirs: Vec<PathBuf> = dirs.iter().map(|d| rtl.join(d)).collect();
+    let verilog_in = |dir: &Path| -> Vec<PathBuf> {
+        std::fs::read_dir(dir)
+            .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
             .map(|e| e.expect("listing rtl/").path())
-            .filter(|p| p.extension().is_some_and(|x| x == "v")),
-    );
+            .filter(|p| p.extension().is_some_and(|x| x == "v"))
+            .collect()
+    };
+    let mut files: Vec<PathBuf> = dirs.iter().flat_map(|d| verilog_in(d)).collect();
+    if with_top {
+        // The top module, rtl/top.v, beside the directories.
+        files.extend(verilog_in(&rtl));
+    }
     files.sort();
     (dirs, files)
 }

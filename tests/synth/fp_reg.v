@@ -1,11 +1,12 @@
 `default_nettype none
 // ============================================================================
-// fp_reg -- one combinational float unit (fp_add or fp_mul) between
-// registers, for a measured Fmax of the unit alone (rtl/synth/, docs/rtl.md
-// "Synthesis"): a, b registered in, y registered out. Synthesis only.
+// fp_reg -- one float unit between registers, for a measured Fmax of the
+// unit alone (rtl/synth/synth.sh add|mul|fast-add|fast-mul, docs/rtl.md
+// "Synthesis", docs/fast.md): a, b registered in, y registered out (a
+// pipelined unit's own stages lie between). Synthesis only.
 // ============================================================================
 module fp_reg #(
-    parameter integer MUL = 0  // 0: fp_add, 1: fp_mul
+    parameter integer UNIT = 0  // 0: fp_add, 1: fp_mul, 2: fast_fp_add, 3: fast_fp_mul
 ) (
     input  wire        clk,
     input  wire [31:0] a,
@@ -16,7 +17,11 @@ module fp_reg #(
     wire [31:0] y;
 
     generate
-        if (MUL != 0) begin : g_mul
+        if (UNIT == 3) begin : g_fast_mul
+            fast_fp_mul u_unit (.clk(clk), .a(a_q), .b(b_q), .y(y));
+        end else if (UNIT == 2) begin : g_fast_add
+            fast_fp_add u_unit (.clk(clk), .a(a_q), .b(b_q), .y(y));
+        end else if (UNIT == 1) begin : g_mul
             fp_mul u_unit (.a(a_q), .b(b_q), .y(y));
         end else begin : g_add
             fp_add u_unit (.a(a_q), .b(b_q), .y(y));

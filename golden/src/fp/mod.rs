@@ -200,6 +200,19 @@ pub const fn sqrt_latency(method: Method) -> u32 {
     }
 }
 
+/// The fast processor's pipelined units (`rtl/fast/`, `fast_defs.vh`):
+/// clock edges from the operands to the result, a new operation entering
+/// every cycle. Their results are this module's functions bit for bit;
+/// `tests/rtl_lint.rs` checks these figures against `fast_defs.vh`, and the
+/// units' test (`fp-check`) reads each result this many edges after its
+/// operands, so a wrong figure is a mismatch.
+pub mod pipelined {
+    /// `fast_fp_add`: y = a + b.
+    pub const ADD_LATENCY: u32 = 10;
+    /// `fast_fp_mul`: y = a * b.
+    pub const MUL_LATENCY: u32 = 9;
+}
+
 #[cfg(test)]
 mod nan_tests {
     use super::*;

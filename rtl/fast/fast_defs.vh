@@ -1,0 +1,15 @@
+// ============================================================================
+// fast_defs.vh -- latencies of the fast processor's pipelined units
+// ============================================================================
+// Clock edges from a unit's inputs to its output; a new operation may enter
+// every cycle. Each unit's header says what its stages do; docs/fast.md has
+// the figures. The harness (fp-check) reads the *_LATENCY lines.
+`ifndef FAST_DEFS_VH
+`define FAST_DEFS_VH
+
+`define FAST_NORM_LATENCY 3    // fast_fp_norm: leading zeros by bytes, then shift
+`define FAST_ROUND_LATENCY 3   // fast_fp_round: exponent class, denormalize, round
+`define FAST_ADD_LATENCY 10    // fast_fp_add: 4 + norm + round
+`define FAST_MUL_LATENCY 9     // fast_fp_mul: 3 + norm + round
+
+`endif
