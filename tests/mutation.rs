@@ -324,3 +324,37 @@ fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
         );
     }
 }
+
+/// A multi-cycle unit must hold y while it computes the next result: the
+/// four mutants of the units' hold paths (fp_recip 150, fp_sqrt 217 and
+/// 564, fp_exp 817; docs/mutation.md), whose results are right when
+/// out_valid rises but whose y moves in between, are caught by the units'
+/// driver, naming the edge, and unmutated (mutsel 0) the same units pass.
+#[cfg(feature = "mutation")]
+#[test]
+fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
+    use golden::fp::Method;
+    use rtcosim::fp_unit::{FpUnit, UnitKind};
+    let (a, _) = rtcosim::operands::random_chunk(UnitKind::Exp, 7, 0, 200);
+    // fp_exp's working range is x <= 0 (exposure * colour).
+    let negative: Vec<u32> = a.iter().map(|x| x | 0x8000_0000).collect();
+    for (id, kind, a) in [
+        (150, UnitKind::Recip(Method::Exact), &a),
+        (217, UnitKind::Sqrt(Method::Exact), &a),
+        (564, UnitKind::Sqrt(Method::Exact), &a),
+        (817, UnitKind::Exp, &negative),
+    ] {
+        let clean = FpUnit::new_mutant(kind, 0).expect("the unit").eval(a, &[]);
+        assert!(clean.is_ok(), "{kind} unmutated: {clean:?}");
+        let err = FpUnit::new_mutant(kind, id)
+            .expect("the unit")
+            .eval(a, &[])
+            .err()
+            .unwrap_or_else(|| panic!("mutant {id} of {kind} passed"))
+            .to_string();
+        assert!(
+            err.contains("while out_valid was low"),
+            "mutant {id}: {err}"
+        );
+    }
+}

@@ -2,7 +2,8 @@
 //
 // Combinational units: set inputs, eval, read y. Multi-cycle units: one
 // operation at a time through the in_valid/out_valid handshake, counting
-// clock edges, with a timeout so a hung unit is an error, not a hang.
+// clock edges, with a timeout so a hung unit is an error, not a hang, and
+// y checked to hold the last result while the next is computed.
 // Pipelined units (rtl/fast/): one operation enters every cycle, back to
 // back, and each result is read the promised latency later.
 
@@ -18,7 +19,12 @@
 #include "verilated_owned.h"
 
 #include "Vfast_fp_add.h"
+#include "Vfast_fp_itof.h"
 #include "Vfast_fp_mul.h"
+#include "Vfast_fp_recip_exact.h"
+#include "Vfast_fp_recip_fast.h"
+#include "Vfast_fp_sqrt_exact.h"
+#include "Vfast_fp_sqrt_fast.h"
 #include "Vfp_add.h"
 #include "Vfp_exp.h"
 #include "Vfp_itof.h"
@@ -80,6 +86,7 @@ public:
         tick();
         m.rst_n = 1;
         tick();
+        last_y_ = m.y;
     }
     void eval(rust::Slice<const std::uint32_t> a, rust::Slice<const std::uint32_t>, rust::Slice<std::uint32_t> y,
               rust::Slice<std::uint32_t> cycles, std::uint32_t timeout_cycles) override {
@@ -92,6 +99,14 @@ public:
             m.in_valid = 0;
             std::uint32_t edges = 1;
             while (!m.out_valid) {
+                // y holds the last result until the next one (each unit's
+                // header promises it; the processor may read it late).
+                if (m.y != last_y_) {
+                    throw std::runtime_error(std::string(name_) + ": y changed from " + hex(last_y_) + " to " +
+                                             hex(m.y) + " while out_valid was low, " + std::to_string(edges) +
+                                             " edges into operand " + std::to_string(i) + " (a = " + hex(a[i]) +
+                                             "); it must hold the last result until the next");
+                }
                 if (edges >= timeout_cycles) {
                     throw std::runtime_error(std::string(name_) + ": no out_valid within " +
                                              std::to_string(timeout_cycles) + " cycles for operand " +
@@ -101,6 +116,7 @@ public:
                 ++edges;
             }
             y[i] = m.y;
+            last_y_ = m.y;
             cycles[i] = edges;
         }
     }
@@ -115,6 +131,7 @@ private:
     }
 
     const char* name_;
+    std::uint32_t last_y_ = 0;
     Owned<M> owned_;
 };
 
@@ -194,6 +211,15 @@ std::unique_ptr<FpUnit> new_fp_unit_pipelined(FpModel model, std::uint32_t laten
     switch (model) {
         case FpModel::FastAdd: return std::make_unique<PipeUnit<Vfast_fp_add, true>>("fast_fp_add", latency);
         case FpModel::FastMul: return std::make_unique<PipeUnit<Vfast_fp_mul, true>>("fast_fp_mul", latency);
+        case FpModel::FastItof: return std::make_unique<PipeUnit<Vfast_fp_itof, false>>("fast_fp_itof", latency);
+        case FpModel::FastRecipExact:
+            return std::make_unique<PipeUnit<Vfast_fp_recip_exact, false>>("fast_fp_recip(exact)", latency);
+        case FpModel::FastRecipFast:
+            return std::make_unique<PipeUnit<Vfast_fp_recip_fast, false>>("fast_fp_recip(fast)", latency);
+        case FpModel::FastSqrtExact:
+            return std::make_unique<PipeUnit<Vfast_fp_sqrt_exact, false>>("fast_fp_sqrt(exact)", latency);
+        case FpModel::FastSqrtFast:
+            return std::make_unique<PipeUnit<Vfast_fp_sqrt_fast, false>>("fast_fp_sqrt(fast)", latency);
         default: break;
     }
     throw std::invalid_argument("float unit model " + std::to_string(static_cast<int>(model)) +
@@ -211,7 +237,12 @@ std::unique_ptr<FpUnit> new_fp_unit(FpModel model) {
         case FpModel::SqrtFast: return std::make_unique<SeqUnit<Vfp_sqrt_fast>>("fp_sqrt(fast)");
         case FpModel::Exp: return std::make_unique<SeqUnit<Vfp_exp>>("fp_exp");
         case FpModel::FastAdd:
-        case FpModel::FastMul: break;  // new_fp_unit_pipelined
+        case FpModel::FastMul:
+        case FpModel::FastItof:
+        case FpModel::FastRecipExact:
+        case FpModel::FastRecipFast:
+        case FpModel::FastSqrtExact:
+        case FpModel::FastSqrtFast: break;  // new_fp_unit_pipelined
     }
     throw std::invalid_argument("unknown float unit model " + std::to_string(static_cast<int>(model)));
 }

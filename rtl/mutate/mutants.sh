@@ -25,6 +25,31 @@
 #       the mutant from the design; "not-proved" says some signal stands
 #       unproven (it may differ, or only for register values no run reaches);
 #       "timeout" that the proof took more than MUTATE_EQUIV_SECONDS (120).
+#   rtl/mutate/mutants.sh miter ID...
+#       asks Yosys, per mutant of a float unit (or of fp_round, fp_lzc,
+#       fp_unpack: then in every unit that holds it), whether the unit's
+#       OUTPUTS (y, and out_valid for the multi-cycle units) can differ for
+#       any input sequence, on the unit as the judge gets it (`netlist`'s
+#       OUT.<unit>.v): a miter of two copies, mutsel tied to 0 and to ID.
+#       Internal signals are not compared, so a mutant of a bit no output
+#       reads is equivalent. Flip-flops outside the forward cone of mutsel
+#       are shared by the two copies (they compute the same function of the
+#       same inputs), then `opt` merges the common logic: a mutant whose
+#       logic reaches no output leaves nothing. The rest is SAT: `sat -prove`
+#       for fp_add, fp_mul and fp_itof, and for fp_recip, fp_sqrt and fp_exp
+#       temporal induction from the all-zero state (the reset state; the
+#       datapath registers are loaded before they are read) up to
+#       MUTATE_MITER_STEPS (12) steps. A mutant of a flip-flop's clock gets
+#       clk2fflogic and a clock that toggles every step. Prints one line per
+#       mutant, "ID VERDICT UNIT: DETAIL; UNIT: DETAIL ...": VERDICT over its
+#       units is equivalent (DETAIL "cone": the change reaches no output, or
+#       "SAT"), differs (DETAIL the counterexample: the operands, or for a
+#       multi-cycle unit the `a` at each in_valid step before the difference
+#       (the unit samples the first it sees idle) and the first step where y
+#       differs, at out_valid or between results), timeout, or not-proved
+#       (the induction did not close in MUTATE_MITER_STEPS).
+#       MUTATE_MITER_SECONDS (300) bounds each Yosys run; MUTATE_MITER_KEEP=DIR
+#       keeps its scripts and logs (log.ID.UNIT) in DIR.
 #
 # The RTL is read as the harness verilates it: `PP_TRACE` defined (the trace
 # and fault ports kept), both methods exact, STACK_DEPTH the default, then
@@ -317,6 +342,220 @@ equiv)
         124) echo "$id timeout" ;;
         *) echo "$id not-proved" ;;
         esac
+    done
+    ;;
+miter)
+    [ $# -ge 1 ] || usage
+    limit=${MUTATE_MITER_SECONDS:-300}
+    steps=${MUTATE_MITER_STEPS:-12}
+    [[ $limit =~ ^[1-9][0-9]*$ ]] || die "MUTATE_MITER_SECONDS '$limit' is not a number of seconds"
+    [[ $steps =~ ^[1-9][0-9]*$ ]] || die "MUTATE_MITER_STEPS '$steps' is not a number of steps"
+    il=$(design)
+    if [ -n "${MUTATE_MITER_KEEP:-}" ]; then
+        tmp=$MUTATE_MITER_KEEP
+        mkdir -p "$tmp"
+    else
+        tmp=$(mktemp -d)
+        trap 'rm -rf "$tmp"' EXIT
+    fi
+    # The float units cut from the mutated design, as the judge gets them.
+    "$0" netlist "$tmp/n.v" "$@" >/dev/null
+    # Which float units (the judge's: fp_add ... fp_exp) hold each module,
+    # as themselves or through their submodules (fp_round, fp_lzc, ...).
+    python3 - "$il" > "$tmp/units" <<'PY'
+import re, sys
+units = ("fp_add", "fp_mul", "fp_itof", "fp_exp", "fp_recip", "fp_sqrt")
+children, cur = {}, None
+for line in open(sys.argv[1]):
+    m = re.match(r"module (\S+)", line)
+    if m:
+        cur = m.group(1).lstrip("\\")
+        children[cur] = set()
+    c = re.match(r"\s+cell (\S+) ", line)
+    if c and (not c.group(1).startswith("$") or c.group(1).startswith("$paramod")):
+        children[cur].add(c.group(1).lstrip("\\"))
+def below(m):
+    out = {m}
+    for c in children.get(m, ()):
+        out |= below(c)
+    return out
+name = lambda m: m.split("\\")[1] if m.startswith("$paramod") else m
+for m in children:
+    print(m, *sorted(name(u) for u in children if name(u) in units and m in below(u)))
+PY
+    # miter_unit ID UNIT CLK: proves the unit's outputs equal with mutsel 0
+    # and mutsel ID. Prints "equivalent DETAIL", "differs INPUTS",
+    # "not-proved DETAIL" or "timeout".
+    miter_unit() {
+        local id=$1 unit=$2 clk=$3 status=0 seq=0 log=$tmp/log.$1.$2
+        case $unit in fp_recip | fp_sqrt | fp_exp) seq=1 ;; esac
+        # The unit as the judge gets it, its ROM as logic, and every flip-flop
+        # outside the forward cone of mutsel marked: those compute the same
+        # function of the same inputs in both copies, so they are shared.
+        {
+            echo "read_verilog $tmp/n.$unit.v"
+            echo "hierarchy -top $unit"
+            echo "proc"
+            echo "memory"
+            # A mutant of a clock: flip-flops on a global clock, and the
+            # unit's clock a toggle (below), so that either edge counts.
+            if [ "$clk" = 1 ]; then echo "clk2fflogic"; else echo "async2sync"; fi
+            echo "opt_clean"
+            echo "autoname"
+            echo "setattr -set mutant_shared 1 t:\$*dff* t:\$ff %u w:mutsel %co* %d"
+            echo "write_rtlil $tmp/work.il"
+        } > "$tmp/work.ys"
+        timeout "$limit" yosys -q -l "$log" -s "$tmp/work.ys" >/dev/null 2>&1 || status=$?
+        [ "$status" -ne 124 ] || { echo "timeout $unit: ${limit} s"; return; }
+        [ "$status" -eq 0 ] || { tail -20 "$log" >&2; die "yosys failed preparing the miter of mutant $id in $unit"; }
+        # gate.Q := gold.Q for each shared flip-flop (its gate copy then
+        # drives nothing and goes).
+        python3 - "$tmp/work.il" > "$tmp/shared.ys" <<'PY'
+import re, sys
+attrs, cell, out = [], None, []
+for line in open(sys.argv[1]):
+    s = line.strip()
+    if s.startswith("attribute "):
+        attrs.append(s.split()[1])
+        continue
+    if s.startswith("cell "):
+        cell = "\\mutant_shared" in attrs
+    elif cell and s.startswith("connect \\Q "):
+        sig = s[len("connect \\Q "):]
+        for name, hi, lo in re.findall(r"\\(\S+)(?: \[(\d+)(?::(\d+))?\])?", sig):
+            rng = f" [{hi}:{lo or hi}]" if hi else ""
+            out.append(f"connect -set gate.{name}{rng} gold.{name}{rng}")
+    elif s == "end":
+        cell = None
+    attrs = []
+print("\n".join(out))
+PY
+        {
+            echo "read_rtlil $tmp/work.il"
+            echo "rename $unit gold"
+            echo "copy gold gate"
+            echo "delete -port gold/w:mutsel gate/w:mutsel"
+            echo "cd gold"
+            echo "connect -set mutsel 16'd0"
+            echo "cd .."
+            echo "cd gate"
+            echo "connect -set mutsel 16'd$id"
+            echo "cd .."
+            echo "miter -equiv -flatten -make_outputs -ignore_gold_x gold gate miter"
+            echo "hierarchy -top miter"
+            echo "cd miter"
+            cat "$tmp/shared.ys"
+            echo "cd .."
+            if [ "$clk" = 1 ]; then
+                # The clock as the harness drives it: a toggle, one edge per
+                # step (from 0, so steps 2, 4, ... are rising edges).
+                echo "read_rtlil $tmp/clock.il"
+                echo "hierarchy -top clocked"
+                echo "flatten"
+                echo "hierarchy -top clocked"
+                echo "rename clocked miter"
+            fi
+            echo "opt -full"
+            echo "opt_clean -purge"
+            echo "tee -q -o $tmp/cells select -count miter/w:trigger %ci* miter/c:* %i"
+            if [ "$seq" = 1 ]; then
+                echo "sat -tempinduct -prove trigger 0 -set-init-zero -maxsteps $steps -show-inputs -show-outputs"
+            else
+                echo "sat -prove trigger 0 -show-inputs -show-outputs"
+            fi
+        } > "$tmp/miter.ys"
+        [ "$clk" = 0 ] || cat > "$tmp/clock.il" <<'IL'
+module \clocked
+  wire input 1 \in_rst_n
+  wire input 2 \in_in_valid
+  wire width 32 input 3 \in_a
+  wire output 4 \trigger
+  wire \clk
+  wire \clk_n
+  cell $ff $clock
+    parameter \WIDTH 1
+    connect \D \clk_n
+    connect \Q \clk
+  end
+  cell $not $clock_n
+    parameter \A_SIGNED 0
+    parameter \A_WIDTH 1
+    parameter \Y_WIDTH 1
+    connect \A \clk
+    connect \Y \clk_n
+  end
+  cell \miter \unit
+    connect \in_clk \clk
+    connect \in_rst_n \in_rst_n
+    connect \in_in_valid \in_in_valid
+    connect \in_a \in_a
+    connect \trigger \trigger
+  end
+end
+IL
+        status=0
+        timeout "$limit" yosys -q -l "$log" -s "$tmp/miter.ys" >/dev/null 2>&1 || status=$?
+        [ "$status" -ne 124 ] || { echo "timeout $unit: ${limit} s"; return; }
+        [ "$status" -eq 0 ] || { tail -20 "$log" >&2; die "yosys failed on the miter of mutant $id in $unit"; }
+        if grep -qE "no model found: SUCCESS|Induction step proven: SUCCESS" "$log"; then
+            if grep -q "^0 objects" "$tmp/cells"; then
+                echo "equivalent $unit: cone (the change reaches no output: nothing left of the miter)"
+            else
+                echo "equivalent $unit: SAT"
+            fi
+        elif grep -qE "model found: FAIL|model found for base case: FAIL" "$log"; then
+            python3 - "$log" "$unit" <<'PY'
+import re, sys
+rows, outs = {}, {}
+for line in open(sys.argv[1]):
+    m = re.match(r"\s+(\d+|\S*)\s+\\(in|gold|gate)_(\S+)\s+\S+\s+([0-9a-fA-Fx]+)\s+[01x]+\s*$", line)
+    if m:
+        t = m.group(1) or "0"
+        if m.group(2) == "in":
+            rows.setdefault(t, {})[m.group(3)] = m.group(4)
+        else:
+            outs.setdefault(t, {})[m.group(2) + "_" + m.group(3)] = m.group(4)
+steps = sorted(rows, key=int)
+if len(steps) <= 1:
+    r = rows.get(steps[0], {}) if steps else {}
+    o = outs.get(steps[0], {}) if steps else {}
+    print("differs " + sys.argv[2] + ": " + " ".join(f"{k}=0x{v}" for k, v in sorted(r.items()))
+          + f" (y 0x{o.get('gold_y', '?')}, mutant 0x{o.get('gate_y', '?')})")
+else:
+    # The first step where an output differs, and whether out_valid is up.
+    bad = next((t for t in sorted(outs, key=int)
+                if any(outs[t].get("gold_" + k) != outs[t].get("gate_" + k) for k in ("y", "out_valid"))), None)
+    o = outs.get(bad, {})
+    where = ("at out_valid" if o.get("gold_out_valid") == "1" else "between results (out_valid low)")
+    ops = [f"step {t}: a=0x{rows[t].get('a', '?')}" for t in steps
+           if rows[t].get("in_valid") == "1" and rows[t].get("rst_n") == "1" and int(t) < int(bad or 0)]
+    resets = [t for t in steps if rows[t].get("rst_n") == "0" and int(t) < int(bad or 0)]
+    print("differs " + sys.argv[2] + " from zero state: in_valid " + ", ".join(ops)
+          + (f"; rst_n low at {','.join(resets)}" if resets else "")
+          + f"; step {bad}: y 0x{o.get('gold_y', '?')}, mutant 0x{o.get('gate_y', '?')} {where}")
+PY
+        else
+            echo "not-proved $unit: induction did not close in $steps steps"
+        fi
+    }
+    mutations "$@" | while read -r id mut; do
+        module=$(sed -E 's/.* -module ([^ ]+) .*/\1/' <<<"$mut")
+        module=${module#\\}
+        clk=0
+        [[ $mut != *" -port CLK "* ]] || clk=1
+        units=$(M=$module awk '$1 == ENVIRON["M"] { $1 = ""; print }' "$tmp/units")
+        [ -n "${units// /}" ] || { echo "$id not-a-float-unit $module"; continue; }
+        verdict=equivalent details=()
+        for unit in $units; do
+            r=$(miter_unit "$id" "$unit" "$clk")
+            details+=("${r#* }")
+            case $r in
+            differs*) verdict=differs ;;
+            timeout*) [ "$verdict" = differs ] || verdict=timeout ;;
+            not-proved*) [ "$verdict" != equivalent ] || verdict=not-proved ;;
+            esac
+        done
+        echo "$id $verdict $(printf '%s; ' "${details[@]}" | sed 's/; $//')"
     done
     ;;
 *) usage ;;
