@@ -273,12 +273,22 @@ fn run() -> Result<(), String> {
             models.push(unit(top, format!("V{top}_{name}"), vec![("METHOD", *code)]));
         }
     }
-    for top in ["fast_fp_add", "fast_fp_mul"] {
-        models.push(Model {
-            includes: vec![fast_dir.clone(), fp_dir.clone()],
-            sources: &fast_sources,
-            ..unit(top, format!("V{top}"), vec![])
-        });
+    let fast_unit = |top: &'static str, prefix: String, params| Model {
+        includes: vec![fast_dir.clone(), fp_dir.clone()],
+        sources: &fast_sources,
+        ..unit(top, prefix, params)
+    };
+    for top in ["fast_fp_add", "fast_fp_mul", "fast_fp_itof"] {
+        models.push(fast_unit(top, format!("V{top}"), vec![]));
+    }
+    for top in ["fast_fp_recip", "fast_fp_sqrt"] {
+        for (name, code) in &methods {
+            models.push(fast_unit(
+                top,
+                format!("V{top}_{name}"),
+                vec![("METHOD", *code)],
+            ));
+        }
     }
     // The pixel processor, with its trace and fault ports, once per
     // (recip, sqrt) method pair: every combination.

@@ -21,6 +21,11 @@ pub(crate) mod ffi {
         Exp,
         FastAdd,
         FastMul,
+        FastItof,
+        FastRecipExact,
+        FastRecipFast,
+        FastSqrtExact,
+        FastSqrtFast,
     }
 
     /// One trace event as the RTL's trace port shows it (the pixel and the
@@ -140,7 +145,7 @@ pub(crate) mod ffi {
         /// written); fails if it was not built.
         fn new_fp_unit_mut(model: FpModel, mutant: u16) -> Result<UniquePtr<FpUnit>>;
 
-        /// A pipelined unit of `rtl/fast/` (FastAdd, FastMul): `eval` puts
+        /// A pipelined unit of `rtl/fast/` (the `Fast*` models): `eval` puts
         /// one operation in every cycle and reads each result `latency`
         /// edges after its operands (`cycles[i]` = `latency`); fails for
         /// any other model.

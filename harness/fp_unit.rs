@@ -25,6 +25,12 @@ pub enum UnitKind {
     FastAdd,
     /// `fast_fp_mul`: [`UnitKind::Mul`] pipelined (`rtl/fast/`).
     FastMul,
+    /// `fast_fp_itof`: [`UnitKind::Itof`] pipelined (`rtl/fast/`).
+    FastItof,
+    /// `fast_fp_recip`: [`UnitKind::Recip`] pipelined (`rtl/fast/`).
+    FastRecip(Method),
+    /// `fast_fp_sqrt`: [`UnitKind::Sqrt`] pipelined (`rtl/fast/`).
+    FastSqrt(Method),
 }
 
 impl UnitKind {
@@ -42,7 +48,15 @@ impl UnitKind {
     ];
 
     /// The pipelined units of `rtl/fast/`, in table order.
-    pub const PIPELINED: [UnitKind; 2] = [UnitKind::FastAdd, UnitKind::FastMul];
+    pub const PIPELINED: [UnitKind; 7] = [
+        UnitKind::FastAdd,
+        UnitKind::FastMul,
+        UnitKind::FastItof,
+        UnitKind::FastRecip(Method::Exact),
+        UnitKind::FastRecip(Method::Fast),
+        UnitKind::FastSqrt(Method::Exact),
+        UnitKind::FastSqrt(Method::Fast),
+    ];
 
     /// Every unit that is verilated: [`UnitKind::ALL`], then
     /// [`UnitKind::PIPELINED`].
@@ -56,6 +70,9 @@ impl UnitKind {
         match self {
             UnitKind::FastAdd => UnitKind::Add,
             UnitKind::FastMul => UnitKind::Mul,
+            UnitKind::FastItof => UnitKind::Itof,
+            UnitKind::FastRecip(m) => UnitKind::Recip(m),
+            UnitKind::FastSqrt(m) => UnitKind::Sqrt(m),
             other => other,
         }
     }
@@ -63,7 +80,14 @@ impl UnitKind {
     /// Whether the unit is pipelined: no handshake, an operation entering
     /// every cycle, each result [`UnitKind::latency`] edges after it.
     pub const fn is_pipelined(self) -> bool {
-        matches!(self, UnitKind::FastAdd | UnitKind::FastMul)
+        matches!(
+            self,
+            UnitKind::FastAdd
+                | UnitKind::FastMul
+                | UnitKind::FastItof
+                | UnitKind::FastRecip(_)
+                | UnitKind::FastSqrt(_)
+        )
     }
 
     /// The Verilog module.
@@ -77,6 +101,9 @@ impl UnitKind {
             UnitKind::Exp => "fp_exp",
             UnitKind::FastAdd => "fast_fp_add",
             UnitKind::FastMul => "fast_fp_mul",
+            UnitKind::FastItof => "fast_fp_itof",
+            UnitKind::FastRecip(_) => "fast_fp_recip",
+            UnitKind::FastSqrt(_) => "fast_fp_sqrt",
         }
     }
 
@@ -84,7 +111,10 @@ impl UnitKind {
     /// which are always correctly rounded, and for `fp_exp`, which has one.
     pub const fn method(self) -> Option<Method> {
         match self {
-            UnitKind::Recip(m) | UnitKind::Sqrt(m) => Some(m),
+            UnitKind::Recip(m)
+            | UnitKind::Sqrt(m)
+            | UnitKind::FastRecip(m)
+            | UnitKind::FastSqrt(m) => Some(m),
             _ => None,
         }
     }
@@ -104,6 +134,9 @@ impl UnitKind {
             UnitKind::Exp => golden::fp::exp_latency(),
             UnitKind::FastAdd => golden::fp::pipelined::ADD_LATENCY,
             UnitKind::FastMul => golden::fp::pipelined::MUL_LATENCY,
+            UnitKind::FastItof => golden::fp::pipelined::ITOF_LATENCY,
+            UnitKind::FastRecip(_) => golden::fp::pipelined::RECIP_LATENCY,
+            UnitKind::FastSqrt(_) => golden::fp::pipelined::SQRT_LATENCY,
             _ => 0,
         }
     }
@@ -113,9 +146,9 @@ impl UnitKind {
         use golden::fp;
         let (fa, fb) = (f32::from_bits(a), f32::from_bits(b));
         match self.arithmetic() {
-            UnitKind::Itof => fp::itof(a as i32).to_bits(),
-            UnitKind::Recip(m) => fp::recip(fa, m).to_bits(),
-            UnitKind::Sqrt(m) => fp::sqrt(fa, m).to_bits(),
+            UnitKind::Itof | UnitKind::FastItof => fp::itof(a as i32).to_bits(),
+            UnitKind::Recip(m) | UnitKind::FastRecip(m) => fp::recip(fa, m).to_bits(),
+            UnitKind::Sqrt(m) | UnitKind::FastSqrt(m) => fp::sqrt(fa, m).to_bits(),
             UnitKind::Exp => fp::exp(fa).to_bits(),
             // arithmetic() is never a pipelined unit.
             UnitKind::Add | UnitKind::FastAdd => fp::add(fa, fb).to_bits(),
@@ -126,7 +159,7 @@ impl UnitKind {
     /// The correctly rounded result (the truth that error is measured
     /// against; for `fp_exp`, f64 `exp` rounded to f32).
     pub fn correctly_rounded(self, a: u32, b: u32) -> u32 {
-        match self {
+        match self.arithmetic() {
             UnitKind::Recip(_) => UnitKind::Recip(Method::Exact).golden(a, b),
             UnitKind::Sqrt(_) => UnitKind::Sqrt(Method::Exact).golden(a, b),
             UnitKind::Exp => golden::fp::exp_reference(f32::from_bits(a)).to_bits(),
@@ -146,6 +179,11 @@ impl UnitKind {
             UnitKind::Exp => ffi::FpModel::Exp,
             UnitKind::FastAdd => ffi::FpModel::FastAdd,
             UnitKind::FastMul => ffi::FpModel::FastMul,
+            UnitKind::FastItof => ffi::FpModel::FastItof,
+            UnitKind::FastRecip(Method::Exact) => ffi::FpModel::FastRecipExact,
+            UnitKind::FastRecip(Method::Fast) => ffi::FpModel::FastRecipFast,
+            UnitKind::FastSqrt(Method::Exact) => ffi::FpModel::FastSqrtExact,
+            UnitKind::FastSqrt(Method::Fast) => ffi::FpModel::FastSqrtFast,
         }
     }
 }

@@ -131,6 +131,7 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
         return (a, b);
     }
     let mut a = values;
+    let kind = kind.arithmetic();
     if kind == UnitKind::Itof {
         a.extend(
             EDGE_INTEGERS

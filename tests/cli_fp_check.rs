@@ -88,7 +88,7 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
     let header = stdout.lines().next().expect("a header");
     assert!(
         header.starts_with(
-            "rtcosim fp-check: 10 units, 3000 random operands, seed 5, 2 threads, Verilator "
+            "rtcosim fp-check: 15 units, 3000 random operands, seed 5, 2 threads, Verilator "
         ),
         "{header}"
     );
@@ -108,6 +108,11 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
         // The fast processor's pipelined units (rtl/fast/).
         ("fast_fp_add", cycles(pipelined::ADD_LATENCY), 0),
         ("fast_fp_mul", cycles(pipelined::MUL_LATENCY), 0),
+        ("fast_fp_itof", cycles(pipelined::ITOF_LATENCY), 0),
+        ("fast_fp_recip(exact)", cycles(pipelined::RECIP_LATENCY), 0),
+        ("fast_fp_recip(fast)", cycles(pipelined::RECIP_LATENCY), 1),
+        ("fast_fp_sqrt(exact)", cycles(pipelined::SQRT_LATENCY), 0),
+        ("fast_fp_sqrt(fast)", cycles(pipelined::SQRT_LATENCY), 1),
     ];
     let names: Vec<&str> = with.iter().map(|r| r.unit.as_str()).collect();
     let want_names: Vec<&str> = want.iter().map(|w| w.0).collect();

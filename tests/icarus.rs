@@ -343,8 +343,10 @@ fn icarus_speed_against_verilator() {
 
 /// The fast processor's pipelined float units (rtl/fast) under Icarus, one
 /// operation every cycle, back to back: every result equals golden::fp's
-/// (the edge-case pairs and 20,000 seeded random pairs through both units).
-/// A golden value changed in one vector is reported as exactly that one
+/// (the edge-case pairs and 20,000 seeded random pairs through the adder
+/// and the multiplier, their first operands through itof and the exact
+/// reciprocal and square root, with those two's correction edges). A golden value
+/// changed in one vector of each unit is reported as exactly that one
 /// mismatch, so the testbench's comparison can fail.
 #[test]
 fn pipelined_units_agree_with_golden() {
@@ -353,11 +355,20 @@ fn pipelined_units_agree_with_golden() {
     }
     use rtcosim::fp_unit::UnitKind;
     use rtcosim::operands;
+    let recip = UnitKind::FastRecip(Method::Exact);
     let (mut a, mut b) = operands::edge_cases(UnitKind::FastAdd);
     let (ra, rb) = operands::random_chunk(UnitKind::FastAdd, 0x2011_0607, 0, 20_000);
     a.extend(ra);
     b.extend(rb);
-    let vectors: Vec<[u32; 4]> = a
+    let sqrt = UnitKind::FastSqrt(Method::Exact);
+    // The reciprocal's and square root's own edges (every correction step)
+    // as first operands.
+    for unit in [recip, sqrt] {
+        let (edges, _) = operands::edge_cases(unit);
+        b.extend(edges.iter().map(|_| 0x3F80_0000));
+        a.extend(edges);
+    }
+    let vectors: Vec<[u32; 7]> = a
         .iter()
         .zip(&b)
         .map(|(&x, &y)| {
@@ -366,18 +377,24 @@ fn pipelined_units_agree_with_golden() {
                 y,
                 UnitKind::FastAdd.golden(x, y),
                 UnitKind::FastMul.golden(x, y),
+                UnitKind::FastItof.golden(x, 0),
+                recip.golden(x, 0),
+                sqrt.golden(x, 0),
             ]
         })
         .collect();
     assert!(vectors.len() > 20_000);
     let dir = work_dir("fast_units");
     let vvp = compile_fast_units(&dir);
-    let ((add, mul), stdout) = run_fast_units(&vvp, &dir, "vectors", &vectors);
-    assert_eq!((add, mul), (0, 0), "{stdout}");
+    let (bad, stdout) = run_fast_units(&vvp, &dir, "vectors", &vectors);
+    assert_eq!(bad, [0; 5], "{stdout}");
 
     let mut faulty = vectors.clone();
     faulty[777][2] ^= 1;
     faulty[4321][3] ^= 0x8000_0000;
-    let ((add, mul), stdout) = run_fast_units(&vvp, &dir, "faulty", &faulty);
-    assert_eq!((add, mul), (1, 1), "{stdout}");
+    faulty[999][4] ^= 2;
+    faulty[12345][5] ^= 1;
+    faulty[20001][6] ^= 0x10;
+    let (bad, stdout) = run_fast_units(&vvp, &dir, "faulty", &faulty);
+    assert_eq!(bad, [1; 5], "{stdout}");
 }

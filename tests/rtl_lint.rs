@@ -66,8 +66,19 @@ fn combinational_units_lint_clean() {
 /// instantiates them they are top modules of their own.)
 #[test]
 fn pipelined_units_lint_clean() {
-    for top in ["fast_fp_add", "fast_fp_mul"] {
+    for top in [
+        "fast_fp_add",
+        "fast_fp_mul",
+        "fast_fp_itof",
+        "fast_fp_unpack",
+    ] {
         lint_tree(common::fast_tree(), Some(top), &[]);
+    }
+    for method in golden::fp::Method::ALL {
+        let method = format!("-GMETHOD={}", method.code());
+        for top in ["fast_fp_recip", "fast_fp_sqrt"] {
+            lint_tree(common::fast_tree(), Some(top), &[&method]);
+        }
     }
 }
 
@@ -91,6 +102,21 @@ fn fast_defs_latencies_match_golden() {
     use golden::fp::pipelined as p;
     assert_eq!(defined("FAST_ADD_LATENCY"), p::ADD_LATENCY, "fast_fp_add");
     assert_eq!(defined("FAST_MUL_LATENCY"), p::MUL_LATENCY, "fast_fp_mul");
+    assert_eq!(
+        defined("FAST_ITOF_LATENCY"),
+        p::ITOF_LATENCY,
+        "fast_fp_itof"
+    );
+    assert_eq!(
+        defined("FAST_RECIP_LATENCY"),
+        p::RECIP_LATENCY,
+        "fast_fp_recip"
+    );
+    assert_eq!(
+        defined("FAST_SQRT_LATENCY"),
+        p::SQRT_LATENCY,
+        "fast_fp_sqrt"
+    );
 }
 
 #[test]

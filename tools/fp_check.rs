@@ -12,7 +12,7 @@ use std::io::Write;
 
 #[derive(clap::Args, Debug)]
 pub struct FpCheckArgs {
-    /// Units to check (default: all, the pipelined fast-add and fast-mul too).
+    /// Units to check (default: all, the pipelined fast-* ones too).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub unit: Vec<UnitArg>,
     /// Random operands per unit.
@@ -41,6 +41,11 @@ pub enum UnitArg {
     Exp,
     FastAdd,
     FastMul,
+    FastItof,
+    FastRecipExact,
+    FastRecipFast,
+    FastSqrtExact,
+    FastSqrtFast,
 }
 
 impl From<UnitArg> for UnitKind {
@@ -56,6 +61,11 @@ impl From<UnitArg> for UnitKind {
             UnitArg::Exp => UnitKind::Exp,
             UnitArg::FastAdd => UnitKind::FastAdd,
             UnitArg::FastMul => UnitKind::FastMul,
+            UnitArg::FastItof => UnitKind::FastItof,
+            UnitArg::FastRecipExact => UnitKind::FastRecip(Method::Exact),
+            UnitArg::FastRecipFast => UnitKind::FastRecip(Method::Fast),
+            UnitArg::FastSqrtExact => UnitKind::FastSqrt(Method::Exact),
+            UnitArg::FastSqrtFast => UnitKind::FastSqrt(Method::Fast),
         }
     }
 }
@@ -91,7 +101,7 @@ fn check(args: &FpCheckArgs) -> Result<bool> {
     writeln!(out)?;
     writeln!(
         out,
-        "{:<16} {:>7} {:>12} {:>10} {:>12} {:>13}",
+        "{:<20} {:>7} {:>12} {:>10} {:>12} {:>13}",
         "unit", "cycles", "operands", "mismatch", "worst error", "Mevals/s/model"
     )?;
     let mut failures = Vec::new();
@@ -107,7 +117,7 @@ fn check(args: &FpCheckArgs) -> Result<bool> {
         let edge = fp_check::run(kind, Operands::Edge, &|_| {})?;
         let bar = progress_bar(
             random.count(kind),
-            &format!("{:<16}", kind.to_string()),
+            &format!("{:<20}", kind.to_string()),
             "{pos}/{len} ({eta})",
         )?;
         let report = fp_check::run(kind, random, &|n| bar.inc(n))?;
@@ -154,7 +164,7 @@ fn print_row(out: &mut impl Write, r: &CheckReport) -> std::io::Result<()> {
     };
     writeln!(
         out,
-        "{:<16} {:>7} {:>12} {:>10} {:>12} {:>13.2}",
+        "{:<20} {:>7} {:>12} {:>10} {:>12} {:>13.2}",
         r.unit.to_string(),
         cycles,
         r.operands,

@@ -24,7 +24,7 @@ std::unique_ptr<FpUnit> new_fp_unit(FpModel model);
 // methods) with mutant `mutant` selected (0: the design as written).
 std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, std::uint16_t mutant);
 
-// A pipelined unit of rtl/fast/ (FastAdd, FastMul), read `latency` clock
+// A pipelined unit of rtl/fast/ (the Fast* models), read `latency` clock
 // edges after each operation enters.
 std::unique_ptr<FpUnit> new_fp_unit_pipelined(FpModel model, std::uint32_t latency);
 

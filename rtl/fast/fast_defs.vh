@@ -9,7 +9,11 @@
 
 `define FAST_NORM_LATENCY 3    // fast_fp_norm: leading zeros by bytes, then shift
 `define FAST_ROUND_LATENCY 3   // fast_fp_round: exponent class, denormalize, round
+`define FAST_UNPACK_LATENCY 4  // fast_fp_unpack: classify, then norm
 `define FAST_ADD_LATENCY 10    // fast_fp_add: 4 + norm + round
 `define FAST_MUL_LATENCY 9     // fast_fp_mul: 3 + norm + round
+`define FAST_ITOF_LATENCY 7    // fast_fp_itof: 1 + norm + round
+`define FAST_RECIP_LATENCY 18  // fast_fp_recip, either method: 1 + norm + 11 + round
+`define FAST_SQRT_LATENCY 22   // fast_fp_sqrt, either method: 1 + norm + 15 + round
 
 `endif

@@ -85,19 +85,22 @@ pub fn compile_fast_units(dir: &Path) -> PathBuf {
     vvp
 }
 
-/// Runs fast_fp_tb on the vectors (a, b, golden a + b, golden a * b),
-/// written to `dir`/`name`.hex: its summary, (add mismatches, mul
-/// mismatches), and its whole stdout.
+/// Runs fast_fp_tb on the vectors (a, b, golden's a + b, a * b, itof(a),
+/// 1 / a, sqrt(a)), written to `dir`/`name`.hex: the mismatches it counted
+/// per unit (add, mul, itof, recip, sqrt), and its whole stdout.
 pub fn run_fast_units(
     vvp: &Path,
     dir: &Path,
     name: &str,
-    vectors: &[[u32; 4]],
-) -> ((u64, u64), String) {
+    vectors: &[[u32; 7]],
+) -> ([u64; 5], String) {
     let file = dir.join(format!("{name}.hex"));
     let mut text = String::new();
-    for [a, b, add, mul] in vectors {
-        writeln!(text, "{a:08x}{b:08x}{add:08x}{mul:08x}").expect("string");
+    for v in vectors {
+        for x in v {
+            write!(text, "{x:08x}").expect("string");
+        }
+        text.push('\n');
     }
     std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     let out = Command::new("vvp")
@@ -113,7 +116,8 @@ pub fn run_fast_units(
         .find_map(|l| l.strip_prefix("fast_fp_tb: "))
         .unwrap_or_else(|| panic!("no summary from fast_fp_tb:\n{stdout}"));
     let words: Vec<&str> = summary.split_whitespace().collect();
-    // "N vectors, add mismatches A, mul mismatches M"
+    // "N vectors, add mismatches A, mul mismatches M, itof mismatches I,
+    // recip mismatches R, sqrt mismatches S"
     assert_eq!(
         words[0],
         vectors.len().to_string(),
@@ -125,7 +129,10 @@ pub fn run_fast_units(
             .parse()
             .unwrap_or_else(|_| panic!("{summary}"))
     };
-    ((count(4), count(7)), stdout)
+    (
+        [count(4), count(7), count(10), count(13), count(16)],
+        stdout,
+    )
 }
 
 /// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.

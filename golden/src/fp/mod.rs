@@ -211,6 +211,12 @@ pub mod pipelined {
     pub const ADD_LATENCY: u32 = 10;
     /// `fast_fp_mul`: y = a * b.
     pub const MUL_LATENCY: u32 = 9;
+    /// `fast_fp_itof`: y = a as i32 as f32.
+    pub const ITOF_LATENCY: u32 = 7;
+    /// `fast_fp_recip`: y = 1 / a, either method.
+    pub const RECIP_LATENCY: u32 = 18;
+    /// `fast_fp_sqrt`: y = sqrt(a), either method.
+    pub const SQRT_LATENCY: u32 = 22;
 }
 
 #[cfg(test)]
