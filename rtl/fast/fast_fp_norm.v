@@ -31,8 +31,16 @@ module fast_fp_norm #(
     localparam integer BYTES = (WIDTH + 7) / 8;
     localparam integer PADW  = BYTES * 8;
     // The value padded with zeros below to whole bytes: the same leading
-    // zeros, unless it is 0.
-    wire [PADW-1:0] padded = {value, {(PADW - WIDTH){1'b0}}};
+    // zeros, unless it is 0. (A zero-width replication is not Verilog-2005,
+    // hence the two cases.)
+    wire [PADW-1:0] padded;
+    generate
+        if (PADW == WIDTH) begin : g_whole_bytes
+            assign padded = value;
+        end else begin : g_padded
+            assign padded = {value, {(PADW - WIDTH){1'b0}}};
+        end
+    endgenerate
 
     // ------------------------------------------------------------------------
     // Stage 1: per byte (byte 0 is the top one)
