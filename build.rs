@@ -108,6 +108,14 @@ impl Flavour {
     }
 }
 
+/// The fast processor's ALU variants every build verilates, (recip, sqrt,
+/// exposure): the ones `tests/fast_alu.rs` co-simulates.
+const FAST_ALU_VARIANTS: &[(&str, &str, bool)] = &[
+    ("exact", "exact", true),
+    ("fast", "fast", true),
+    ("exact", "exact", false),
+];
+
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.
 const TOP_VARIANTS: &[(u32, &str, &str)] = &[(1, "exact", "exact"), (4, "exact", "exact")];
@@ -246,9 +254,10 @@ fn run() -> Result<(), String> {
     write_state_lines(&pp_dir.join("pp_ctrl.v"), &out.join("rtl_state_lines.rs"))?;
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let fp_sources = verilog_sources(&[&fp_dir])?;
-    // The fast processor's pipelined units (rtl/fast/) use fp_lzc.
+    // The fast processor's RTL (rtl/fast/): its pipelined units use fp_lzc,
+    // its ALU rtl/pp's opcode decoder and the ISA.
     let fast_dir = manifest.join("rtl/fast");
-    let fast_sources = verilog_sources(&[&fast_dir, &fp_dir])?;
+    let fast_sources = verilog_sources(&[&fast_dir, &fp_dir, &pp_dir])?;
     let pp_sources = verilog_sources(&[&pp_dir, &fp_dir])?;
     let top_sources: Vec<PathBuf> = std::iter::once(manifest.join("rtl/top.v"))
         .chain(pp_sources.iter().cloned())
@@ -274,11 +283,11 @@ fn run() -> Result<(), String> {
         }
     }
     let fast_unit = |top: &'static str, prefix: String, params| Model {
-        includes: vec![fast_dir.clone(), fp_dir.clone()],
+        includes: vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()],
         sources: &fast_sources,
         ..unit(top, prefix, params)
     };
-    for top in ["fast_fp_add", "fast_fp_mul", "fast_fp_itof"] {
+    for top in ["fast_fp_add", "fast_fp_mul", "fast_fp_itof", "fast_fp_exp"] {
         models.push(fast_unit(top, format!("V{top}"), vec![]));
     }
     for top in ["fast_fp_recip", "fast_fp_sqrt"] {
@@ -435,8 +444,9 @@ fn run() -> Result<(), String> {
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
     let mut top_variants = Vec::new();
     for (procs, recip, sqrt) in top_variants_wanted(&methods)? {
-        let code = |name: &str| methods.iter().find(|(n, _)| n == name).map(|(_, c)| *c);
-        let (Some(recip_code), Some(sqrt_code)) = (code(&recip), code(&sqrt)) else {
+        let (Some(recip_code), Some(sqrt_code)) =
+            (method_code(&methods, &recip), method_code(&methods, &sqrt))
+        else {
             continue;
         };
         top_variants.push((
@@ -471,6 +481,57 @@ fn run() -> Result<(), String> {
             .iter()
             .map(|(procs, prefix, recip, sqrt)| {
                 (prefix.clone(), format!("{procs}, {recip}, {sqrt}"))
+            })
+            .collect::<Vec<_>>(),
+    )?;
+
+    // The fast processor's ALU (rtl/fast/fast_alu.v with rtl/pp's opcode
+    // decoder), for harness::fast_alu: FAST_ALU_VARIANTS.
+    let mut alu_variants = Vec::new();
+    for &(recip, sqrt, exposure) in FAST_ALU_VARIANTS {
+        let (Some(recip_code), Some(sqrt_code)) =
+            (method_code(&methods, recip), method_code(&methods, sqrt))
+        else {
+            return Err(format!(
+                "FAST_ALU_VARIANTS names a method fp_defs.vh lacks: {recip}/{sqrt}"
+            ));
+        };
+        let suffix = if exposure { "" } else { "_noexp" };
+        alu_variants.push((
+            format!("Vfast_alu_{recip}_{sqrt}{suffix}"),
+            recip_code,
+            sqrt_code,
+            exposure,
+        ));
+    }
+    models.extend(
+        alu_variants
+            .iter()
+            .map(|(prefix, recip, sqrt, exposure)| Model {
+                prefix: prefix.clone(),
+                top: "fast_alu",
+                params: vec![
+                    ("RECIP_METHOD", *recip),
+                    ("SQRT_METHOD", *sqrt),
+                    ("EXPOSURE", u32::from(*exposure)),
+                ],
+                defines: vec![],
+                includes: vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()],
+                sources: &fast_sources,
+                flavour: Flavour::Plain,
+            }),
+    );
+    write_models(
+        &out.join("rtcosim_fast_alu_models.h"),
+        "the verilated fast ALU variants: X(class, recip code, sqrt code, exposure)",
+        "RTCOSIM_FAST_ALU_MODELS",
+        &alu_variants
+            .iter()
+            .map(|(prefix, recip, sqrt, exposure)| {
+                (
+                    prefix.clone(),
+                    format!("{recip}, {sqrt}, {}", u8::from(*exposure)),
+                )
             })
             .collect::<Vec<_>>(),
     )?;
@@ -560,6 +621,7 @@ fn run() -> Result<(), String> {
         .file("harness/cpp/fp_units.cpp")
         .file("harness/cpp/pixel_proc.cpp")
         .file("harness/cpp/top.cpp")
+        .file("harness/cpp/fast_alu.cpp")
         .compile("rtcosim_bridge");
 
     // The waveform models: one pixel per run, so -O0, which compiles the
@@ -968,6 +1030,11 @@ fn files_in(dirs: &[&Path], keep: impl Fn(&Path) -> bool) -> Result<Vec<PathBuf>
         all.extend(files);
     }
     Ok(all)
+}
+
+/// The code fp_defs.vh gives the method `name` (`read_methods`), if any.
+fn method_code(methods: &[(String, u32)], name: &str) -> Option<u32> {
+    methods.iter().find(|(n, _)| n == name).map(|(_, c)| *c)
 }
 
 /// The header `harness/cpp/pixel_proc.cpp` includes: every verilated pixel

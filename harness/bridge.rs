@@ -26,6 +26,7 @@ pub(crate) mod ffi {
         FastRecipFast,
         FastSqrtExact,
         FastSqrtFast,
+        FastExp,
     }
 
     /// One trace event as the RTL's trace port shows it (the pixel and the
@@ -129,6 +130,32 @@ pub(crate) mod ffi {
         last_state: u16,
         last_state_cycle: u64,
         state_port: u16,
+    }
+
+    /// One cycle's inputs of the fast processor's ALU (harness::fast_alu).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    struct AluIn {
+        valid: bool,
+        ctx: u8,
+        op: u8,
+        a: [u32; 3],
+        b: [u32; 3],
+        ix: u32,
+        iy: u32,
+    }
+
+    /// A result as the fast ALU's output port showed it, in the cycle it
+    /// showed it (cycles counted from reset).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    struct AluOut {
+        cycle: u64,
+        ctx: u8,
+        writes: bool,
+        y: [u32; 3],
+        /// The flags, bit i for lane i.
+        neg: u8,
+        pos: u8,
+        sign: u8,
     }
 
     unsafe extern "C++" {
@@ -312,5 +339,35 @@ pub(crate) mod ffi {
             max_events: u64,
             max_cycles: u64,
         ) -> Result<TopRun>;
+    }
+
+    unsafe extern "C++" {
+        include!("fast_alu.h");
+
+        /// The verilated ALU of the fast processor (rtl/fast/fast_alu.v).
+        type FastAlu;
+
+        /// Builds and resets the variant verilated with these method codes
+        /// and exposure; fails if it was not built.
+        fn new_fast_alu(
+            recip_method: u32,
+            sqrt_method: u32,
+            exposure: bool,
+        ) -> Result<UniquePtr<FastAlu>>;
+
+        /// Holds rst_n low for two clock edges, releases it for one; the
+        /// cycle count starts again.
+        fn reset(self: Pin<&mut FastAlu>);
+
+        /// Drives `cycles[i]` in cycle i, then `drain` idle cycles; appends
+        /// every result the output port shows to `out`, and exp_ready in
+        /// each cycle of `cycles` to `exp_ready`.
+        fn run(
+            self: Pin<&mut FastAlu>,
+            cycles: &[AluIn],
+            drain: u32,
+            out: &mut Vec<AluOut>,
+            exp_ready: &mut Vec<bool>,
+        ) -> Result<()>;
     }
 }

@@ -31,6 +31,8 @@ pub enum UnitKind {
     FastRecip(Method),
     /// `fast_fp_sqrt`: [`UnitKind::Sqrt`] pipelined (`rtl/fast/`).
     FastSqrt(Method),
+    /// `fast_fp_exp`: [`UnitKind::Exp`] pipelined (`rtl/fast/`).
+    FastExp,
 }
 
 impl UnitKind {
@@ -48,7 +50,7 @@ impl UnitKind {
     ];
 
     /// The pipelined units of `rtl/fast/`, in table order.
-    pub const PIPELINED: [UnitKind; 7] = [
+    pub const PIPELINED: [UnitKind; 8] = [
         UnitKind::FastAdd,
         UnitKind::FastMul,
         UnitKind::FastItof,
@@ -56,6 +58,7 @@ impl UnitKind {
         UnitKind::FastRecip(Method::Fast),
         UnitKind::FastSqrt(Method::Exact),
         UnitKind::FastSqrt(Method::Fast),
+        UnitKind::FastExp,
     ];
 
     /// Every unit that is verilated: [`UnitKind::ALL`], then
@@ -73,6 +76,7 @@ impl UnitKind {
             UnitKind::FastItof => UnitKind::Itof,
             UnitKind::FastRecip(m) => UnitKind::Recip(m),
             UnitKind::FastSqrt(m) => UnitKind::Sqrt(m),
+            UnitKind::FastExp => UnitKind::Exp,
             other => other,
         }
     }
@@ -87,6 +91,7 @@ impl UnitKind {
                 | UnitKind::FastItof
                 | UnitKind::FastRecip(_)
                 | UnitKind::FastSqrt(_)
+                | UnitKind::FastExp
         )
     }
 
@@ -104,6 +109,7 @@ impl UnitKind {
             UnitKind::FastItof => "fast_fp_itof",
             UnitKind::FastRecip(_) => "fast_fp_recip",
             UnitKind::FastSqrt(_) => "fast_fp_sqrt",
+            UnitKind::FastExp => "fast_fp_exp",
         }
     }
 
@@ -137,6 +143,7 @@ impl UnitKind {
             UnitKind::FastItof => golden::fp::pipelined::ITOF_LATENCY,
             UnitKind::FastRecip(_) => golden::fp::pipelined::RECIP_LATENCY,
             UnitKind::FastSqrt(_) => golden::fp::pipelined::SQRT_LATENCY,
+            UnitKind::FastExp => golden::fp::pipelined::EXP_LATENCY,
             _ => 0,
         }
     }
@@ -149,7 +156,7 @@ impl UnitKind {
             UnitKind::Itof | UnitKind::FastItof => fp::itof(a as i32).to_bits(),
             UnitKind::Recip(m) | UnitKind::FastRecip(m) => fp::recip(fa, m).to_bits(),
             UnitKind::Sqrt(m) | UnitKind::FastSqrt(m) => fp::sqrt(fa, m).to_bits(),
-            UnitKind::Exp => fp::exp(fa).to_bits(),
+            UnitKind::Exp | UnitKind::FastExp => fp::exp(fa).to_bits(),
             // arithmetic() is never a pipelined unit.
             UnitKind::Add | UnitKind::FastAdd => fp::add(fa, fb).to_bits(),
             UnitKind::Mul | UnitKind::FastMul => fp::mul(fa, fb).to_bits(),
@@ -184,6 +191,7 @@ impl UnitKind {
             UnitKind::FastRecip(Method::Fast) => ffi::FpModel::FastRecipFast,
             UnitKind::FastSqrt(Method::Exact) => ffi::FpModel::FastSqrtExact,
             UnitKind::FastSqrt(Method::Fast) => ffi::FpModel::FastSqrtFast,
+            UnitKind::FastExp => ffi::FpModel::FastExp,
         }
     }
 }

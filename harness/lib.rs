@@ -5,6 +5,8 @@
 //! - [`operands`]: TestFloat-style edge cases and seeded random operands.
 //! - [`fp_check`]: runs operands through a unit and its golden model and
 //!   reports every disagreement, measured in ULPs.
+//! - [`fast_alu`]: the fast processor's ALU (rtl/fast/fast_alu.v), its
+//!   opcodes of interleaved contexts against golden's micro-op ALU.
 //! - [`pixel_proc`]: the verilated pixel processor, one pixel per call, with
 //!   its trace and fault-injection ports.
 //! - [`top`]: the verilated top module (rtl/top.v), N pixel processors fed a
@@ -37,6 +39,7 @@ mod bridge;
 pub mod compare;
 pub mod cosim;
 pub mod coverage;
+pub mod fast_alu;
 pub mod fp_check;
 pub mod fp_unit;
 pub mod fuzz;

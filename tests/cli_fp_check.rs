@@ -88,7 +88,7 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
     let header = stdout.lines().next().expect("a header");
     assert!(
         header.starts_with(
-            "rtcosim fp-check: 15 units, 3000 random operands, seed 5, 2 threads, Verilator "
+            "rtcosim fp-check: 16 units, 3000 random operands, seed 5, 2 threads, Verilator "
         ),
         "{header}"
     );
@@ -113,6 +113,7 @@ fn every_unit_agrees_with_the_promised_latency_and_count() {
         ("fast_fp_recip(fast)", cycles(pipelined::RECIP_LATENCY), 1),
         ("fast_fp_sqrt(exact)", cycles(pipelined::SQRT_LATENCY), 0),
         ("fast_fp_sqrt(fast)", cycles(pipelined::SQRT_LATENCY), 1),
+        ("fast_fp_exp", cycles(pipelined::EXP_LATENCY), 1),
     ];
     let names: Vec<&str> = with.iter().map(|r| r.unit.as_str()).collect();
     let want_names: Vec<&str> = want.iter().map(|w| w.0).collect();

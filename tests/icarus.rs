@@ -20,8 +20,9 @@
 mod common;
 
 use common::icarus::{
-    compile, compile_fast_units, differences, icarus_present, pix_lines, run_fast_units, run_vvp,
-    scene_hex, simulate, vvp_pixels, work_dir, write_scene_hex, SimPixel,
+    compile, compile_fast_regfile, compile_fast_units, differences, icarus_present, pix_lines,
+    run_fast_regfile, run_fast_units, run_vvp, scene_hex, simulate, vvp_pixels, work_dir,
+    write_scene_hex, SimPixel,
 };
 use common::reduced;
 use golden::fp::Method;
@@ -344,10 +345,12 @@ fn icarus_speed_against_verilator() {
 /// The fast processor's pipelined float units (rtl/fast) under Icarus, one
 /// operation every cycle, back to back: every result equals golden::fp's
 /// (the edge-case pairs and 20,000 seeded random pairs through the adder
-/// and the multiplier, their first operands through itof and the exact
-/// reciprocal and square root, with those two's correction edges). A golden value
-/// changed in one vector of each unit is reported as exactly that one
-/// mismatch, so the testbench's comparison can fail.
+/// and the multiplier, their first operands through itof, the exact
+/// reciprocal and square root and the exponential, with the reciprocal's
+/// and square root's correction edges, and the exponential's edges and
+/// 10,000 of its own random operands). A golden value changed in one vector
+/// of each unit is reported as exactly that one mismatch, so the
+/// testbench's comparison can fail.
 #[test]
 fn pipelined_units_agree_with_golden() {
     if !icarus_present("pipelined_units_agree_with_golden") {
@@ -368,7 +371,13 @@ fn pipelined_units_agree_with_golden() {
         b.extend(edges.iter().map(|_| 0x3F80_0000));
         a.extend(edges);
     }
-    let vectors: Vec<[u32; 7]> = a
+    // The exponential's edges (regime changes) and random operands.
+    let exp = UnitKind::FastExp;
+    let (mut exp_a, _) = operands::edge_cases(exp);
+    exp_a.extend(operands::random_chunk(exp, 0x2011_0607, 0, 10_000).0);
+    b.extend(exp_a.iter().map(|_| 0x3F80_0000));
+    a.extend(exp_a);
+    let vectors: Vec<[u32; 8]> = a
         .iter()
         .zip(&b)
         .map(|(&x, &y)| {
@@ -380,6 +389,7 @@ fn pipelined_units_agree_with_golden() {
                 UnitKind::FastItof.golden(x, 0),
                 recip.golden(x, 0),
                 sqrt.golden(x, 0),
+                exp.golden(x, 0),
             ]
         })
         .collect();
@@ -387,7 +397,7 @@ fn pipelined_units_agree_with_golden() {
     let dir = work_dir("fast_units");
     let vvp = compile_fast_units(&dir);
     let (bad, stdout) = run_fast_units(&vvp, &dir, "vectors", &vectors);
-    assert_eq!(bad, [0; 5], "{stdout}");
+    assert_eq!(bad, [0; 6], "{stdout}");
 
     let mut faulty = vectors.clone();
     faulty[777][2] ^= 1;
@@ -395,6 +405,32 @@ fn pipelined_units_agree_with_golden() {
     faulty[999][4] ^= 2;
     faulty[12345][5] ^= 1;
     faulty[20001][6] ^= 0x10;
+    let last = faulty.len() - 1;
+    faulty[last - 4321][7] ^= 4;
     let (bad, stdout) = run_fast_units(&vvp, &dir, "faulty", &faulty);
-    assert_eq!(bad, [1; 5], "{stdout}");
+    assert_eq!(bad, [1; 6], "{stdout}");
+}
+
+/// The fast processor's register file (rtl/fast/fast_regfile.v) under
+/// Icarus against its testbench's model of the contract (every word
+/// written, then 20,000 random cycles of two reads, a lane-masked write and
+/// now and then a scene write, half the addresses at the tables' edges), at
+/// stack depths 8, 3 and 1: every read two edges later is the model's. A
+/// model value changed in one read is reported as exactly that mismatch.
+#[test]
+fn fast_register_file_agrees_with_its_model() {
+    if !icarus_present("fast_register_file_agrees_with_its_model") {
+        return;
+    }
+    let dir = work_dir("fast_regfile");
+    for depth in [8, 3, 1] {
+        let vvp = compile_fast_regfile(&dir, depth);
+        let (reads, bad, stdout) = run_fast_regfile(&vvp, None);
+        assert_eq!((reads, bad), (40_000, 0), "depth {depth}:\n{stdout}");
+        if depth == 8 {
+            let (_, bad, stdout) = run_fast_regfile(&vvp, Some(777));
+            assert_eq!(bad, 1, "{stdout}");
+            assert!(stdout.contains("mismatch"), "{stdout}");
+        }
+    }
 }

@@ -71,6 +71,7 @@ fn pipelined_units_lint_clean() {
         "fast_fp_mul",
         "fast_fp_itof",
         "fast_fp_unpack",
+        "fast_fp_exp",
     ] {
         lint_tree(common::fast_tree(), Some(top), &[]);
     }
@@ -79,6 +80,29 @@ fn pipelined_units_lint_clean() {
         for top in ["fast_fp_recip", "fast_fp_sqrt"] {
             lint_tree(common::fast_tree(), Some(top), &[&method]);
         }
+    }
+}
+
+/// The fast processor's parts built so far: the ALU in every method pair,
+/// with and without exposure, and the register file at every stack depth.
+#[test]
+fn fast_processor_parts_lint_clean() {
+    for recip in golden::fp::Method::ALL {
+        for sqrt in golden::fp::Method::ALL {
+            for exposure in [0, 1] {
+                let params = [
+                    format!("-GRECIP_METHOD={}", recip.code()),
+                    format!("-GSQRT_METHOD={}", sqrt.code()),
+                    format!("-GEXPOSURE={exposure}"),
+                ];
+                let params: Vec<&str> = params.iter().map(String::as_str).collect();
+                lint_tree(common::fast_tree(), Some("fast_alu"), &params);
+            }
+        }
+    }
+    for depth in 1..=8 {
+        let depth = format!("-GSTACK_DEPTH={depth}");
+        lint_tree(common::fast_tree(), Some("fast_regfile"), &[&depth]);
     }
 }
 
@@ -117,6 +141,7 @@ fn fast_defs_latencies_match_golden() {
         p::SQRT_LATENCY,
         "fast_fp_sqrt"
     );
+    assert_eq!(defined("FAST_EXP_LATENCY"), p::EXP_LATENCY, "fast_fp_exp");
 }
 
 #[test]

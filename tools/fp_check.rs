@@ -46,6 +46,7 @@ pub enum UnitArg {
     FastRecipFast,
     FastSqrtExact,
     FastSqrtFast,
+    FastExp,
 }
 
 impl From<UnitArg> for UnitKind {
@@ -66,6 +67,7 @@ impl From<UnitArg> for UnitKind {
             UnitArg::FastRecipFast => UnitKind::FastRecip(Method::Fast),
             UnitArg::FastSqrtExact => UnitKind::FastSqrt(Method::Exact),
             UnitArg::FastSqrtFast => UnitKind::FastSqrt(Method::Fast),
+            UnitArg::FastExp => UnitKind::FastExp,
         }
     }
 }

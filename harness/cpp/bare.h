@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "verilated_owned.h"
+
 namespace rtcosim {
 
 // The scene port idle and rst_n low for two rising edges, then high for
@@ -20,20 +22,11 @@ namespace rtcosim {
 // first.
 template <class M>
 void reset_model(M& m) {
-    m.rst_n = 0;
     m.scene_we = 0;
     m.scene_cfg = 0;
     m.scene_addr = 0;
     for (int i = 0; i < 3; ++i) m.scene_data[i] = 0;
-    for (int edge = 0; edge < 3; ++edge) {
-        if (edge == 2) m.rst_n = 1;
-        m.clk = 0;
-        m.eval();
-        m.clk = 1;
-        m.eval();
-    }
-    m.clk = 0;
-    m.eval();
+    reset_edges(m);
 }
 
 // One scene-port write (register `addr`, or the configuration word when

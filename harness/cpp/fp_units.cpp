@@ -19,6 +19,7 @@
 #include "verilated_owned.h"
 
 #include "Vfast_fp_add.h"
+#include "Vfast_fp_exp.h"
 #include "Vfast_fp_itof.h"
 #include "Vfast_fp_mul.h"
 #include "Vfast_fp_recip_exact.h"
@@ -220,6 +221,7 @@ std::unique_ptr<FpUnit> new_fp_unit_pipelined(FpModel model, std::uint32_t laten
             return std::make_unique<PipeUnit<Vfast_fp_sqrt_exact, false>>("fast_fp_sqrt(exact)", latency);
         case FpModel::FastSqrtFast:
             return std::make_unique<PipeUnit<Vfast_fp_sqrt_fast, false>>("fast_fp_sqrt(fast)", latency);
+        case FpModel::FastExp: return std::make_unique<PipeUnit<Vfast_fp_exp, false>>("fast_fp_exp", latency);
         default: break;
     }
     throw std::invalid_argument("float unit model " + std::to_string(static_cast<int>(model)) +
@@ -242,7 +244,8 @@ std::unique_ptr<FpUnit> new_fp_unit(FpModel model) {
         case FpModel::FastRecipExact:
         case FpModel::FastRecipFast:
         case FpModel::FastSqrtExact:
-        case FpModel::FastSqrtFast: break;  // new_fp_unit_pipelined
+        case FpModel::FastSqrtFast:
+        case FpModel::FastExp: break;  // new_fp_unit_pipelined
     }
     throw std::invalid_argument("unknown float unit model " + std::to_string(static_cast<int>(model)));
 }

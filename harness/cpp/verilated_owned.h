@@ -30,6 +30,22 @@ struct Owned {
     Owned& operator=(const Owned&) = delete;
 };
 
+// rst_n low for two rising edges, then high for one; ends sampled (clk
+// low, evaluated). The caller sets the model's other inputs first.
+template <class M>
+void reset_edges(M& m) {
+    m.rst_n = 0;
+    for (int edge = 0; edge < 3; ++edge) {
+        if (edge == 2) m.rst_n = 1;
+        m.clk = 0;
+        m.eval();
+        m.clk = 1;
+        m.eval();
+    }
+    m.clk = 0;
+    m.eval();
+}
+
 inline std::string hex(std::uint32_t v) {
     static const char* digits = "0123456789abcdef";
     std::string s = "0x";

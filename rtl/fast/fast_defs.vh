@@ -15,5 +15,6 @@
 `define FAST_ITOF_LATENCY 7    // fast_fp_itof: 1 + norm + round
 `define FAST_RECIP_LATENCY 18  // fast_fp_recip, either method: 1 + norm + 11 + round
 `define FAST_SQRT_LATENCY 22   // fast_fp_sqrt, either method: 1 + norm + 15 + round
+`define FAST_EXP_LATENCY 20    // fast_fp_exp: 17 + round
 
 `endif

@@ -9,9 +9,10 @@
 // nearest even, subnormals in and out, the canonical quiet NaN 32'h7FC00000.
 // y appears 10 clock edges after a and b; a new pair may enter every cycle.
 //
-//   1. classify a and b; order them by magnitude (a 31-bit compare); the
+//   1. classify a and b (exponent all ones, fraction zero); order them by
+//      magnitude (a 31-bit compare)
+//   2. swap into big and small; the exponent difference and the shift; the
 //      special result (NaN, infinity), which depends on the inputs only
-//   2. swap into big and small; the exponent difference and the shift
 //   3. align the small significand, with the sticky of what falls out
 //   4. add or subtract (28 bits)
 //   5, 6, 7. normalize (fast_fp_norm); an exact zero sum becomes +-0
@@ -31,32 +32,32 @@ module fast_fp_add (
     localparam [4:0]   ALIGN_MAX   = 5'd27;
 
     // ------------------------------------------------------------------------
-    // Stage 1: classify, order by magnitude, the special result
+    // Stage 1: classify, order by magnitude
     // ------------------------------------------------------------------------
-    wire a_special = (a[30:23] == EXP_SPECIAL);
-    wire b_special = (b[30:23] == EXP_SPECIAL);
-    wire a_is_nan  = a_special & (|a[22:0]);
-    wire b_is_nan  = b_special & (|b[22:0]);
-    wire a_is_inf  = a_special & ~(|a[22:0]);
-    wire b_is_inf  = b_special & ~(|b[22:0]);
-
-    reg        s1_a_ge_b, s1_a_sign, s1_b_sign, s1_special;
+    reg        s1_a_ge_b, s1_a_sign, s1_b_sign;
+    reg        s1_a_ff, s1_b_ff, s1_a_nz, s1_b_nz;  // exponent all ones, fraction not zero
     reg [30:0] s1_a_mag, s1_b_mag;
-    reg [31:0] s1_special_y;
 
     always @(posedge clk) begin
         // For binary32 the unsigned order of {exponent, fraction} is the
         // order of the magnitudes, subnormals included.
-        s1_a_ge_b    <= (a[30:0] >= b[30:0]);
-        s1_a_sign    <= a[31];
-        s1_b_sign    <= b[31];
-        s1_a_mag     <= a[30:0];
-        s1_b_mag     <= b[30:0];
-        s1_special   <= a_special | b_special;
-        s1_special_y <= (a_is_nan | b_is_nan | (a_is_inf & b_is_inf & (a[31] ^ b[31]))) ? QNAN
-                      : a_is_inf ? {a[31], EXP_SPECIAL, 23'd0}
-                      : {b[31], EXP_SPECIAL, 23'd0};
+        s1_a_ge_b <= (a[30:0] >= b[30:0]);
+        s1_a_sign <= a[31];
+        s1_b_sign <= b[31];
+        s1_a_mag  <= a[30:0];
+        s1_b_mag  <= b[30:0];
+        // The operands' classes here, the special result in stage 2 (the
+        // two in one stage were one path of wide functions).
+        s1_a_ff   <= (a[30:23] == EXP_SPECIAL);
+        s1_b_ff   <= (b[30:23] == EXP_SPECIAL);
+        s1_a_nz   <= |a[22:0];
+        s1_b_nz   <= |b[22:0];
     end
+
+    wire s1_a_nan = s1_a_ff & s1_a_nz;
+    wire s1_b_nan = s1_b_ff & s1_b_nz;
+    wire s1_a_inf = s1_a_ff & ~s1_a_nz;
+    wire s1_b_inf = s1_b_ff & ~s1_b_nz;
 
     // ------------------------------------------------------------------------
     // Stage 2: swap; the exponent difference
@@ -86,8 +87,10 @@ module fast_fp_add (
         s2_big_sig      <= {big_hidden, big_mag[22:0]};
         s2_small_hidden <= small_hidden;
         s2_small_frac   <= small_mag[22:0];
-        s2_special      <= s1_special;
-        s2_special_y    <= s1_special_y;
+        s2_special      <= s1_a_ff | s1_b_ff;
+        s2_special_y    <= (s1_a_nan | s1_b_nan | (s1_a_inf & s1_b_inf & (s1_a_sign ^ s1_b_sign))) ? QNAN
+                         : s1_a_inf ? {s1_a_sign, EXP_SPECIAL, 23'd0}
+                         : {s1_b_sign, EXP_SPECIAL, 23'd0};
     end
 
     // ------------------------------------------------------------------------

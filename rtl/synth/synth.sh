@@ -8,8 +8,12 @@
 #   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (tests/synth/fp_reg.v);
 #                                          # mul: fp_mul (methods: no effect)
 #   rtl/synth/synth.sh xc6v fast-add exact # fast_fp_add (rtl/fast/) between registers;
-#                                          # fast-mul, fast-itof, fast-recip, fast-sqrt: the
-#                                          # others (docs/fast.md; methods: recip's, sqrt's METHOD)
+#                                          # fast-mul, fast-itof, fast-recip, fast-sqrt, fast-exp:
+#                                          # the others (docs/fast.md; methods: recip's, sqrt's
+#                                          # METHOD)
+#   rtl/synth/synth.sh xc6v fast-alu exact # the fast processor's ALU (rtl/fast/fast_alu.v,
+#                                          # registered at both ends); a 4th argument noexp
+#                                          # builds it without fp_exp (EXPOSURE = 0)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
 #                                          # (tests/synth/ctrl_reg.v; docs/fast.md)
 #   rtl/synth/synth.sh generic pp exact    # pixel_processor as Yosys' generic gates, with its
@@ -26,7 +30,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|ctrl exact|fast [N]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|ctrl exact|fast [N|noexp]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -70,17 +74,27 @@ top)
     params="$params -chparam N $n"
     out=$device-top-$methods-N$n
     ;;
-add | mul | fast-add | fast-mul | fast-itof | fast-recip | fast-sqrt)
+add | mul | fast-add | fast-mul | fast-itof | fast-recip | fast-sqrt | fast-exp)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
     top=fp_reg
     read="read_verilog $inc -Irtl/fast rtl/fp/fp_round.v rtl/fp/fp_unpack.v rtl/fp/fp_lzc.v \
 rtl/fp/fp_add.v rtl/fp/fp_mul.v $(echo rtl/fast/*.v) tests/synth/fp_reg.v"
     case $design in
-    add) unit=0 ;; mul) unit=1 ;; fast-add) unit=2 ;; fast-mul) unit=3 ;; fast-itof) unit=4 ;; fast-recip) unit=5 ;; fast-sqrt) unit=6 ;;
+    add) unit=0 ;; mul) unit=1 ;; fast-add) unit=2 ;; fast-mul) unit=3 ;; fast-itof) unit=4 ;; fast-recip) unit=5 ;; fast-sqrt) unit=6 ;; fast-exp) unit=7 ;;
     esac
     params="-chparam UNIT $unit -chparam METHOD $method"
     out=$device-$design
     case $design in fast-recip | fast-sqrt) out=$out-$methods ;; esac
+    ;;
+fast-alu)
+    case $n in
+    "") exposure=1 out=$device-fast-alu-$methods ;;
+    noexp) exposure=0 out=$device-fast-alu-$methods-noexp ;;
+    *) echo "$0: the ALU's 4th argument is noexp or nothing, not '$n'" >&2; exit 2 ;;
+    esac
+    top=fast_alu
+    read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/fast/*.v)"
+    params="$params -chparam EXPOSURE $exposure"
     ;;
 ctrl)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }

@@ -86,14 +86,15 @@ pub fn compile_fast_units(dir: &Path) -> PathBuf {
 }
 
 /// Runs fast_fp_tb on the vectors (a, b, golden's a + b, a * b, itof(a),
-/// 1 / a, sqrt(a)), written to `dir`/`name`.hex: the mismatches it counted
-/// per unit (add, mul, itof, recip, sqrt), and its whole stdout.
+/// 1 / a, sqrt(a), e^a), written to `dir`/`name`.hex: the mismatches it
+/// counted per unit (add, mul, itof, recip, sqrt, exp), and its whole
+/// stdout.
 pub fn run_fast_units(
     vvp: &Path,
     dir: &Path,
     name: &str,
-    vectors: &[[u32; 7]],
-) -> ([u64; 5], String) {
+    vectors: &[[u32; 8]],
+) -> ([u64; 6], String) {
     let file = dir.join(format!("{name}.hex"));
     let mut text = String::new();
     for v in vectors {
@@ -117,7 +118,7 @@ pub fn run_fast_units(
         .unwrap_or_else(|| panic!("no summary from fast_fp_tb:\n{stdout}"));
     let words: Vec<&str> = summary.split_whitespace().collect();
     // "N vectors, add mismatches A, mul mismatches M, itof mismatches I,
-    // recip mismatches R, sqrt mismatches S"
+    // recip mismatches R, sqrt mismatches S, exp mismatches E"
     assert_eq!(
         words[0],
         vectors.len().to_string(),
@@ -130,9 +131,56 @@ pub fn run_fast_units(
             .unwrap_or_else(|_| panic!("{summary}"))
     };
     (
-        [count(4), count(7), count(10), count(13), count(16)],
+        [
+            count(4),
+            count(7),
+            count(10),
+            count(13),
+            count(16),
+            count(19),
+        ],
         stdout,
     )
+}
+
+/// Compiles the fast processor's register file (rtl/fast/fast_regfile.v)
+/// with tests/icarus/fast_regfile_tb.v at `STACK_DEPTH`.
+pub fn compile_fast_regfile(dir: &Path, stack_depth: u32) -> PathBuf {
+    let (includes, sources) = super::fast_tree();
+    let vvp = dir.join(format!("fast_regfile_tb_{stack_depth}.vvp"));
+    iverilog(
+        &vvp,
+        "fast_regfile_tb",
+        &includes,
+        &sources,
+        &[],
+        &[("STACK_DEPTH", stack_depth)],
+    );
+    vvp
+}
+
+/// Runs fast_regfile_tb (with `+fault=N` when `fault`): the reads it
+/// checked and the mismatches it counted, and its whole stdout.
+pub fn run_fast_regfile(vvp: &Path, fault: Option<u64>) -> (u64, u64, String) {
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(vvp)
+        .args(fault.map(|n| format!("+fault={n}")))
+        .output()
+        .expect("running vvp");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let summary: Vec<u64> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("done "))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|w| w.parse().ok())
+                .collect()
+        })
+        .unwrap_or_else(|| panic!("no summary from fast_regfile_tb:\n{stdout}"));
+    assert_eq!(summary.len(), 2, "{stdout}");
+    (summary[0], summary[1], stdout)
 }
 
 /// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.

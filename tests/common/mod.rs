@@ -15,10 +15,11 @@ pub fn rtl_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
     rtl_files(&["fp", "pp"], true)
 }
 
-/// The fast processor's tree so far: rtl/fast and rtl/fp (whose fp_lzc its
-/// units use), include directories and every source, sorted.
+/// The fast processor's tree so far: rtl/fast, rtl/fp (whose fp_lzc its
+/// units use) and rtl/pp (the ISA and the opcode decoder its ALU uses),
+/// include directories and every source, sorted.
 pub fn fast_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
-    rtl_files(&["fast", "fp"], false)
+    rtl_files(&["fast", "fp", "pp"], false)
 }
 
 /// The directories `dirs` of rtl/ and their `*.v` files, with rtl/'s own

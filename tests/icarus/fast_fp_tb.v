@@ -4,16 +4,17 @@
 // fast_fp_tb -- the fast processor's pipelined units under Icarus Verilog
 // ============================================================================
 // Streams the vectors of +vectors=FILE (one per line, hex: a, b, golden's
-// a + b, a * b, float(a as an integer), 1 / a and sqrt(a) (exact);
+// a + b, a * b, float(a as an integer), 1 / a and sqrt(a) (exact), e^a;
 // tests/icarus.rs writes them) through fast_fp_add, fast_fp_mul,
-// fast_fp_itof, fast_fp_recip and fast_fp_sqrt, one vector every cycle, back to back, and compares each
+// fast_fp_itof, fast_fp_recip, fast_fp_sqrt and fast_fp_exp, one vector
+// every cycle, back to back, and compares each
 // result with golden's the unit's latency (fast_defs.vh) later. Prints one
 // line per mismatch (the first few) and then
 //   fast_fp_tb: N vectors, add mismatches A, mul mismatches M, itof
-//   mismatches I, recip mismatches R, sqrt mismatches S
+//   mismatches I, recip mismatches R, sqrt mismatches S, exp mismatches E
 // ============================================================================
 module fast_fp_tb;
-    parameter integer MAX = 1 << 16;  // vectors the file may hold
+    parameter integer MAX = 1 << 17;  // vectors the file may hold
 
     reg clk;
     `include "tb_clock.vh"
@@ -25,17 +26,19 @@ module fast_fp_tb;
     reg  [31:0] vec_itof [0:MAX-1];
     reg  [31:0] vec_recip [0:MAX-1];
     reg  [31:0] vec_sqrt [0:MAX-1];
-    reg  [223:0] line   [0:MAX-1];
+    reg  [31:0] vec_exp [0:MAX-1];
+    reg  [255:0] line   [0:MAX-1];
     reg  [31:0] a, b;
-    wire [31:0] y_add, y_mul, y_itof, y_recip, y_sqrt;
+    wire [31:0] y_add, y_mul, y_itof, y_recip, y_sqrt, y_exp;
 
     fast_fp_add   u_add   (.clk(clk), .a(a), .b(b), .y(y_add));
     fast_fp_mul   u_mul   (.clk(clk), .a(a), .b(b), .y(y_mul));
     fast_fp_itof  u_itof  (.clk(clk), .a(a), .y(y_itof));
     fast_fp_recip u_recip (.clk(clk), .a(a), .y(y_recip));
     fast_fp_sqrt  u_sqrt  (.clk(clk), .a(a), .y(y_sqrt));
+    fast_fp_exp   u_exp   (.clk(clk), .a(a), .y(y_exp));
 
-    integer n, i, edge_no, bad_add, bad_mul, bad_itof, bad_recip, bad_sqrt, k;
+    integer n, i, edge_no, bad_add, bad_mul, bad_itof, bad_recip, bad_sqrt, bad_exp, k;
     reg [1023:0] file;
 
     initial begin
@@ -43,11 +46,11 @@ module fast_fp_tb;
             $display("fast_fp_tb: no +vectors=FILE");
             $finish;
         end
-        for (i = 0; i < MAX; i = i + 1) line[i] = {224{1'bx}};
+        for (i = 0; i < MAX; i = i + 1) line[i] = {256{1'bx}};
         $readmemh(file, line);
         n = 0;
         while (n < MAX && line[n][0] !== 1'bx) begin
-            {vec_a[n], vec_b[n], vec_add[n], vec_mul[n], vec_itof[n], vec_recip[n], vec_sqrt[n]} = line[n];
+            {vec_a[n], vec_b[n], vec_add[n], vec_mul[n], vec_itof[n], vec_recip[n], vec_sqrt[n], vec_exp[n]} = line[n];
             n = n + 1;
         end
         bad_add = 0;
@@ -55,6 +58,7 @@ module fast_fp_tb;
         bad_itof = 0;
         bad_recip = 0;
         bad_sqrt = 0;
+        bad_exp = 0;
         a = 32'd0;
         b = 32'd0;
         fall;
@@ -101,9 +105,15 @@ module fast_fp_tb;
                 if (bad_sqrt <= 5)
                     $display("sqrt %h: rtl %h golden %h", vec_a[k], y_sqrt, vec_sqrt[k]);
             end
+            k = edge_no - `FAST_EXP_LATENCY;
+            if (k >= 0 && k < n && y_exp !== vec_exp[k]) begin
+                bad_exp = bad_exp + 1;
+                if (bad_exp <= 5)
+                    $display("exp %h: rtl %h golden %h", vec_a[k], y_exp, vec_exp[k]);
+            end
         end
-        $display("fast_fp_tb: %0d vectors, add mismatches %0d, mul mismatches %0d, itof mismatches %0d, recip mismatches %0d, sqrt mismatches %0d",
-                 n, bad_add, bad_mul, bad_itof, bad_recip, bad_sqrt);
+        $display("fast_fp_tb: %0d vectors, add mismatches %0d, mul mismatches %0d, itof mismatches %0d, recip mismatches %0d, sqrt mismatches %0d, exp mismatches %0d",
+                 n, bad_add, bad_mul, bad_itof, bad_recip, bad_sqrt, bad_exp);
         $finish;
     end
 endmodule

@@ -7,7 +7,8 @@
 // ============================================================================
 module fp_reg #(
     // 0: fp_add, 1: fp_mul, 2: fast_fp_add, 3: fast_fp_mul, 4: fast_fp_itof,
-    // 5: fast_fp_recip, 6: fast_fp_sqrt (METHOD); the unary ones ignore b.
+    // 5: fast_fp_recip, 6: fast_fp_sqrt (METHOD), 7: fast_fp_exp; the unary
+    // ones ignore b.
     parameter integer UNIT   = 0,
     parameter integer METHOD = 0
 ) (
@@ -20,7 +21,9 @@ module fp_reg #(
     wire [31:0] y;
 
     generate
-        if (UNIT == 6) begin : g_fast_sqrt
+        if (UNIT == 7) begin : g_fast_exp
+            fast_fp_exp u_unit (.clk(clk), .a(a_q), .y(y));
+        end else if (UNIT == 6) begin : g_fast_sqrt
             fast_fp_sqrt #(.METHOD(METHOD)) u_unit (.clk(clk), .a(a_q), .y(y));
         end else if (UNIT == 5) begin : g_fast_recip
             fast_fp_recip #(.METHOD(METHOD)) u_unit (.clk(clk), .a(a_q), .y(y));

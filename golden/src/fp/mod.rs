@@ -217,6 +217,8 @@ pub mod pipelined {
     pub const RECIP_LATENCY: u32 = 18;
     /// `fast_fp_sqrt`: y = sqrt(a), either method.
     pub const SQRT_LATENCY: u32 = 22;
+    /// `fast_fp_exp`: y = e^a.
+    pub const EXP_LATENCY: u32 = 20;
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! takes. It knows no registers: the core ([`super::core`]) reads the
 //! operands, hands their values here, and writes the result.
 
-use super::isa::op;
+use super::isa::{op, Lanes};
 use crate::fp::{self, Method};
 use crate::scene::Vec3f;
 use std::panic::Location;
@@ -223,6 +223,106 @@ impl Alu {
     pub fn roots(&self, x: f32) -> Vec3f {
         [fp::sqrt(x, self.sqrt), fp::recip(x, self.recip), 0.0]
     }
+}
+
+impl Alu {
+    /// The ALU as one function of an opcode and its operands' values, as
+    /// the fast processor's ALU (`rtl/fast/fast_alu.v`) takes them: `a`
+    /// and `b` whole (the core reads only the lanes an instruction names),
+    /// the controller's pixel for ITOF. Returns the result it writes to the
+    /// register file, or `None` for the opcodes that write nothing (DOT1,
+    /// DOT2, ISECT1, ISECT3, NOP and unassigned codes; the RTL's result
+    /// port shows +0 then); F is updated as the opcode says.
+    #[track_caller]
+    pub fn apply(&mut self, code: u8, a: Vec3f, b: Vec3f, px: u32, py: u32) -> Option<Vec3f> {
+        let at = Location::caller();
+        Some(match code {
+            op::ADD
+            | op::SUB
+            | op::MUL
+            | op::NMUL
+            | op::MULX
+            | op::MULY
+            | op::MULZ
+            | op::NMULX
+            | op::MULR1
+            | op::MULR2
+            | op::MUL2X => Alu::lanewise(code, a, b),
+            op::MOV => a,
+            op::NEG => Alu::neg(a),
+            op::ITOF => Alu::itof(px, py),
+            op::DOT1 => {
+                self.dot1(a, b);
+                return None;
+            }
+            op::DOT2 => {
+                self.dot2(at);
+                return None;
+            }
+            op::DOT3 => self.dot3(at),
+            op::ISECT1 => {
+                self.isect1(a, b);
+                return None;
+            }
+            op::ISECT2 => self.isect2(a, b, at),
+            op::ISECT3 => {
+                self.isect3(a, at);
+                return None;
+            }
+            op::ISECT4 => self.isect4(a[0], at),
+            op::RECIP | op::SQRT => [self.unary(code, a[0]), 0.0, 0.0],
+            op::RECIPY => [self.unary(code, a[1]), 0.0, 0.0],
+            op::ROOTS => self.roots(a[0]),
+            op::EXP => Alu::exp(a),
+            _ => return None,
+        })
+    }
+
+    /// The lanes of [`Alu::apply`]'s result that opcode `code` defines: x
+    /// alone for DOT3, RECIP, RECIPY and SQRT, x and y for ROOTS (isa.vh:
+    /// "Y.x = ..."), every lane otherwise. The program writes and branches
+    /// on no other lane of theirs, and the RTL leaves the others as its
+    /// datapath has them (the compact ALU's DOT3 shows all three sums).
+    pub fn result_lanes(code: u8) -> Lanes {
+        match code {
+            op::DOT3 | op::RECIP | op::RECIPY | op::SQRT => Lanes::X,
+            op::ROOTS => Lanes::X | Lanes::Y,
+            _ => Lanes::XYZ,
+        }
+    }
+
+    /// Whether F has been written (reading it before is refused).
+    pub fn f_written(&self) -> bool {
+        self.f_valid
+    }
+}
+
+/// Clock edges from an opcode entering the fast processor's ALU
+/// (`rtl/fast/fast_alu.v`) to its result leaving, for every opcode: the
+/// slowest unit after the operands' selection (the square root, or the
+/// shared `fp_exp` fed lanes x, y, z one edge apart and collected, when
+/// the build has exposure), plus decode and selection before it and the
+/// result's and its flags' registers after.
+pub const fn fast_latency(exposure: bool) -> u32 {
+    use crate::fp::pipelined as p;
+    let mut slowest = p::SQRT_LATENCY;
+    let units = [
+        p::MUL_LATENCY + 1,
+        p::ADD_LATENCY,
+        p::ITOF_LATENCY,
+        p::RECIP_LATENCY,
+    ];
+    let mut i = 0;
+    while i < units.len() {
+        if units[i] > slowest {
+            slowest = units[i];
+        }
+        i += 1;
+    }
+    if exposure && p::EXP_LATENCY + 3 > slowest {
+        slowest = p::EXP_LATENCY + 3;
+    }
+    2 + slowest + 2
 }
 
 /// The latency of ROOTS: the later of its two units.
