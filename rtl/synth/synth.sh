@@ -14,6 +14,8 @@
 #   rtl/synth/synth.sh xc6v fast-alu exact # the fast processor's ALU (rtl/fast/fast_alu.v,
 #                                          # registered at both ends); a 4th argument noexp
 #                                          # builds it without fp_exp (EXPOSURE = 0)
+#   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
+#                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
 #                                          # (tests/synth/ctrl_reg.v; docs/fast.md)
 #   rtl/synth/synth.sh generic pp exact    # pixel_processor as Yosys' generic gates, with its
@@ -30,7 +32,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|ctrl exact|fast [N|noexp]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-regfile|ctrl exact|fast [N|noexp]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -95,6 +97,13 @@ fast-alu)
     top=fast_alu
     read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/fast/*.v)"
     params="$params -chparam EXPOSURE $exposure"
+    ;;
+fast-regfile)
+    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    top=fast_regfile
+    read="read_verilog $inc rtl/fast/fast_regfile.v"
+    params=""
+    out=$device-fast-regfile
     ;;
 ctrl)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
