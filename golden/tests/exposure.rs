@@ -149,3 +149,28 @@ fn the_micro_op_model_exposes_its_own_colour() {
         "the scene does go over 1 without the exposure"
     );
 }
+
+/// The exposure's three instructions come after everything else of a
+/// pixel, EXP second to last: with it on, every pixel runs the same
+/// instructions as with it off (the same writes, in order) and then
+/// exactly EXPO_MUL, EXPO_EXP, EXPO_SUB. The fast processor's cycle rule
+/// (`golden::micro::barrel::PixelWork::of`) places EXP there.
+#[test]
+fn the_exposure_ends_every_pixel_with_exp_second_to_last() {
+    use golden::micro::barrel::PixelWork;
+    use golden::micro::isa::State;
+    let on = golden::micro::Processor::new(&overexposed(16, 12));
+    let off = golden::micro::Processor::new(&with_exposure(&overexposed(16, 12), None));
+    for (x, y) in (0..12).flat_map(|y| (0..16).map(move |x| (x, y))) {
+        let (mut e_on, mut e_off) = (Vec::new(), Vec::new());
+        let r_on = on.render_pixel(x, y, |e, _| e_on.push(e.state));
+        let r_off = off.render_pixel(x, y, |e, _| e_off.push(e.state));
+        assert_eq!(r_on.ops.instructions(), r_off.ops.instructions() + 3);
+        let tail = [State::EXPO_MUL.0, State::EXPO_EXP.0, State::EXPO_SUB.0];
+        assert_eq!(e_on[..e_off.len()], e_off[..], "pixel ({x}, {y})");
+        assert_eq!(e_on[e_off.len()..], tail, "pixel ({x}, {y})");
+        let work = PixelWork::of(&r_on);
+        assert_eq!(work.exp_at, Some(r_on.ops.instructions() - 2));
+        assert_eq!(PixelWork::of(&r_off).exp_at, None);
+    }
+}

@@ -16,6 +16,8 @@
 //!   and the cycles each opcode takes.
 //! - [`program`]: the controller FSM, the per-pixel program.
 //! - [`stats`]: instruction and cycle counts per class.
+//! - [`barrel`]: the fast processor's cycle rule (K contexts taking turns),
+//!   beside the compact processor's below.
 //!
 //! It computes the optics of [`crate::reference`] (which is their spec),
 //! iteratively with the ray stack of thesis 3.6, with the scene's speed-ups
@@ -48,6 +50,7 @@
 //! write emits exactly one, with the decoded (physical) address.
 
 pub mod alu;
+pub mod barrel;
 pub mod core;
 pub mod fault;
 pub mod isa;

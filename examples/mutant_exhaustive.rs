@@ -1,0 +1,258 @@
+//! Decides float-unit mutants of `fp_recip` and `fp_sqrt` by exhaustive
+//! simulation (docs/mutation.md, "Exhaustive simulation"): the mutant's
+//! unit, cut from the mutant netlist (`FpUnit::new_mutant`), runs every
+//! significand in each exponent class its mantissa datapath can tell apart,
+//! then every exponent field with both signs and a set of fractions, bit for
+//! bit and cycle for cycle against golden::fp. Operations run back to back
+//! (each starts on the edge after the last result's out_valid, while y holds
+//! that result: the only sequence the unit driver makes).
+//!
+//!     cargo run --release --features mutation --example mutant_exhaustive -- 89 90 163
+//!     ... -- --threads 2 --all 89      # two mutants at a time; count every difference
+//!     ... -- --below 128 42            # fp_exp: every |a| < 128 (2^31 operands: slow)
+//!
+//! The classes (the argument is in docs/mutation.md):
+//! - fp_recip: the 2^23 fractions at biased exponent 127 (every normal
+//!   result: the rounding of the significand is the same at every normal
+//!   result exponent), 253 and 254 (results of 0.5 and 0.25 times the
+//!   smallest normal: the subnormal results, shifted right 1 and 2);
+//! - fp_sqrt: the 2^23 fractions at biased exponents 127 and 128 (both
+//!   parities; every result is normal);
+//! - both: every exponent field 0..=255, both signs, the fractions of
+//!   [`sweep_fractions`] (a subnormal one with its leading one at each
+//!   position: every exponent the unpacker makes).
+//!
+//! A difference is printed with its operand, the smallest first (the
+//! classes run in increasing bit pattern; without `--all` a mutant stops at
+//! its first difference). Exits 1 if any mutant differs. Mutant 0 runs the
+//! design as written through both units (it must agree everywhere).
+
+use anyhow::{bail, Context, Result};
+use golden::fp::Method;
+use rtcosim::fp_unit::{FpUnit, UnitKind};
+use rtcosim::mutation::List;
+use rtcosim::operands::CHUNK;
+use std::time::Instant;
+
+/// Fractions the exponent sweep runs at every exponent field and sign:
+/// zero, the ends, alternating patterns, every single bit and every run of
+/// low ones (for a subnormal, a leading one at each of the 23 positions),
+/// and a few hashed ones.
+fn sweep_fractions() -> Vec<u32> {
+    let mut f = vec![0, 1, 2, 3, 0x7F_FFFF, 0x7F_FFFE, 0x40_0000, 0x40_0001];
+    f.extend([0x2A_AAAA, 0x55_5555, 0x35_04F3, 0x0C_CCCD]);
+    f.extend((0..23).map(|k| 1u32 << k));
+    f.extend((1..=23).map(|k| (1u32 << k) - 1));
+    let mut x: u32 = 0x9E37_79B9;
+    for _ in 0..16 {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        f.push(x & 0x7F_FFFF);
+    }
+    f.sort_unstable();
+    f.dedup();
+    f
+}
+
+/// The operand classes of `kind`, each a list of contiguous bit-pattern
+/// ranges (an exponent field's 2^23 fractions), smallest first.
+fn exhaustive_exponents(kind: UnitKind) -> &'static [u32] {
+    match kind {
+        UnitKind::Recip(_) => &[127, 253, 254],
+        UnitKind::Sqrt(_) => &[127, 128],
+        _ => &[],
+    }
+}
+
+/// What one mutant's run found.
+struct Found {
+    operands: u64,
+    differing: u64,
+    /// The smallest differing operand: `(a, mutant y, golden y, mutant
+    /// cycles)`.
+    first: Option<(u32, u32, u32, u32)>,
+    seconds: f64,
+}
+
+/// Runs `a` through `unit` and compares with golden; records differences.
+fn run_batch(unit: &mut FpUnit, a: &[u32], found: &mut Found) -> Result<()> {
+    let kind = unit.kind();
+    let (y, cycles) = unit.eval(a, &[])?;
+    found.operands += a.len() as u64;
+    for i in 0..a.len() {
+        let want = kind.golden(a[i], 0);
+        if y[i] != want || cycles[i] != kind.latency() {
+            found.differing += 1;
+            let better = found.first.map_or(true, |(f, ..)| a[i] < f);
+            if better {
+                found.first = Some((a[i], y[i], want, cycles[i]));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Judges mutant `id` of `kind` exhaustively (or, with `below`, `fp_exp`
+/// on every |a| below it); stops at the first differing batch unless `all`.
+fn judge(kind: UnitKind, id: u16, all: bool, below: Option<f32>) -> Result<Found> {
+    let start = Instant::now();
+    let mut unit = FpUnit::new_mutant(kind, id)?;
+    let mut found = Found {
+        operands: 0,
+        differing: 0,
+        first: None,
+        seconds: 0.0,
+    };
+    let done = |f: &Found| !all && f.differing > 0;
+    // The exponent sweep.
+    let fracs = sweep_fractions();
+    let mut sweep = Vec::new();
+    for s in 0..2u32 {
+        for e in 0..=255u32 {
+            sweep.extend(fracs.iter().map(|&f| s << 31 | e << 23 | f));
+        }
+    }
+    run_batch(&mut unit, &sweep, &mut found)?;
+    let sweep_first = found.first.take();
+    // Every significand in each class, then (fp_exp) every |a| < below.
+    let ranges: Vec<(u32, u32)> = match below {
+        Some(limit) => {
+            let top = limit.to_bits();
+            vec![(0, top), (0x8000_0000, 0x8000_0000 | top)]
+        }
+        None => exhaustive_exponents(kind)
+            .iter()
+            .map(|&e| (e << 23, (e + 1) << 23))
+            .collect(),
+    };
+    let mut batch = Vec::with_capacity(CHUNK);
+    'classes: for (lo, hi) in ranges {
+        let mut a = lo;
+        while a < hi {
+            batch.clear();
+            let end = hi.min(a.saturating_add(CHUNK as u32));
+            batch.extend(a..end);
+            run_batch(&mut unit, &batch, &mut found)?;
+            a = end;
+            if done(&found) {
+                break 'classes;
+            }
+        }
+    }
+    // The smallest of the sweep's and the classes' first differences.
+    found.first = match (sweep_first, found.first) {
+        (Some(s), Some(c)) => Some(if s.0 < c.0 { s } else { c }),
+        (s, c) => s.or(c),
+    };
+    found.seconds = start.elapsed().as_secs_f64();
+    Ok(found)
+}
+
+fn main() -> Result<()> {
+    let mut args = std::env::args().skip(1);
+    let (mut threads, mut all, mut below, mut ids) = (1usize, false, None, Vec::new());
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--threads" => {
+                threads = args
+                    .next()
+                    .context("--threads N")?
+                    .parse()
+                    .context("--threads N")?;
+            }
+            "--all" => all = true,
+            "--below" => {
+                below = Some(
+                    args.next()
+                        .context("--below X")?
+                        .parse::<f32>()
+                        .context("--below X")?,
+                );
+            }
+            _ => {
+                for part in arg.split(',') {
+                    ids.push(
+                        part.parse::<u16>()
+                            .with_context(|| format!("mutant id {part:?}"))?,
+                    );
+                }
+            }
+        }
+    }
+    if ids.is_empty() {
+        bail!("usage: mutant_exhaustive [--threads N] [--all] [--below X] ID...");
+    }
+    let list = List::committed()?;
+    let mut jobs = Vec::new();
+    for &id in &ids {
+        if id == 0 {
+            // The design as written: golden's own check, on both units
+            // (fp_exp with --below).
+            let kinds: &[UnitKind] = match below {
+                Some(_) => &[UnitKind::Exp],
+                None => &[
+                    UnitKind::Recip(Method::Exact),
+                    UnitKind::Sqrt(Method::Exact),
+                ],
+            };
+            for &kind in kinds {
+                jobs.push((0, kind, "the design".to_string()));
+            }
+            continue;
+        }
+        let m = list
+            .get(id)
+            .with_context(|| format!("mutant {id} is not in the list"))?;
+        let kind = match m.module.as_str() {
+            "fp_recip" => UnitKind::Recip(Method::Exact),
+            "fp_sqrt" => UnitKind::Sqrt(Method::Exact),
+            "fp_exp" if below.is_some() => UnitKind::Exp,
+            other => bail!(
+                "mutant {id} is in {other}: this tool takes fp_recip and fp_sqrt (fp_exp with --below)"
+            ),
+        };
+        jobs.push((id, kind, m.location.clone()));
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let any_differs = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some((id, kind, location)) = jobs.get(i) else {
+                    break;
+                };
+                match judge(*kind, *id, all, below) {
+                    Err(e) => {
+                        any_differs.store(true, std::sync::atomic::Ordering::Relaxed);
+                        println!("mutant {id} ({kind}, {location}): error: {e:#}");
+                    }
+                    Ok(f) => {
+                        let rate = f.operands as f64 / f.seconds.max(1e-9);
+                        let head = format!(
+                            "mutant {id} ({kind}, {location}): {} operands in {:.1} s ({:.0}/s)",
+                            f.operands, f.seconds, rate
+                        );
+                        match f.first {
+                            None => println!("{head}: none differs from golden"),
+                            Some((a, y, want, cycles)) => {
+                                any_differs.store(true, std::sync::atomic::Ordering::Relaxed);
+                                println!(
+                                    "{head}: {} differ{}; smallest a = {a:#010x} ({:e}): y = {y:#010x}, golden {want:#010x}, {cycles} cycles",
+                                    f.differing,
+                                    if all { "" } else { " (stopped at the first batch)" },
+                                    f32::from_bits(a)
+                                );
+                            }
+                        }
+                    }
+                }
+            });
+        }
+    });
+    if any_differs.into_inner() {
+        std::process::exit(1);
+    }
+    Ok(())
+}
