@@ -12,8 +12,9 @@
 #                                          # the others (docs/fast.md; methods: recip's, sqrt's
 #                                          # METHOD)
 #   rtl/synth/synth.sh xc6v fast-alu exact # the fast processor's ALU (rtl/fast/fast_alu.v,
-#                                          # registered at both ends); a 4th argument noexp
-#                                          # builds it without fp_exp (EXPOSURE = 0)
+#                                          # registered at both ends; for ecp5 behind 32-bit
+#                                          # ports, tests/synth/alu_pins.v); a 4th argument
+#                                          # noexp builds it without fp_exp (EXPOSURE = 0)
 #   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
 #                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
@@ -96,6 +97,12 @@ fast-alu)
     esac
     top=fast_alu
     read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/fast/*.v)"
+    # For place and route, behind 32-bit ports (tests/synth/alu_pins.v):
+    # the ALU's own 400 port bits exceed a package's pins.
+    if [ "$device" = ecp5 ]; then
+        top=alu_pins
+        read="$read tests/synth/alu_pins.v"
+    fi
     params="$params -chparam EXPOSURE $exposure"
     ;;
 fast-regfile)
