@@ -183,6 +183,56 @@ pub fn run_fast_regfile(vvp: &Path, fault: Option<u64>) -> (u64, u64, String) {
     (summary[0], summary[1], stdout)
 }
 
+/// Compiles the fast processor's ALU (rtl/fast/fast_alu.v, exact methods)
+/// with tests/icarus/fast_alu_tb.v, with or without exposure.
+pub fn compile_fast_alu(dir: &Path, exposure: bool) -> PathBuf {
+    let (includes, sources) = super::fast_tree();
+    let vvp = dir.join(format!("fast_alu_tb_{}.vvp", u8::from(exposure)));
+    iverilog(
+        &vvp,
+        "fast_alu_tb",
+        &includes,
+        &sources,
+        &[],
+        &[("EXPOSURE", u32::from(exposure))],
+    );
+    vvp
+}
+
+/// Runs fast_alu_tb on `lines` (its vector format, 13 words a cycle),
+/// written to `dir`/`name`.hex: the cycles it read, the mismatches it
+/// counted, and its whole stdout.
+pub fn run_fast_alu(vvp: &Path, dir: &Path, name: &str, lines: &[[u32; 13]]) -> (u64, u64, String) {
+    let file = dir.join(format!("{name}.hex"));
+    let mut text = String::new();
+    for line in lines {
+        for w in line {
+            write!(text, "{w:08x}").expect("string");
+        }
+        text.push('\n');
+    }
+    std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(vvp)
+        .arg(format!("+vectors={}", file.display()))
+        .output()
+        .expect("running vvp");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let counts: Vec<u64> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("fast_alu_tb: "))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|w| w.trim_end_matches(',').parse().ok())
+                .collect()
+        })
+        .unwrap_or_else(|| panic!("no summary from fast_alu_tb:\n{stdout}"));
+    assert_eq!(counts.len(), 2, "{stdout}");
+    (counts[0], counts[1], stdout)
+}
+
 /// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.
 fn iverilog(
     vvp: &Path,
