@@ -149,8 +149,34 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     if let UnitKind::Recip(_) | UnitKind::Sqrt(_) = kind {
         a.extend(correction_edges(kind));
     }
+    match kind {
+        UnitKind::Recip(_) => a.extend(RECIP_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
+        UnitKind::Sqrt(_) => a.extend(SQRT_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
+        _ => {}
+    }
     (a, Vec::new())
 }
+
+/// `fp_recip` operands that kill mutants the other edge cases and the
+/// random operands miss, each the smallest bit pattern that does, found by
+/// exhaustive simulation (`examples/mutant_exhaustive.rs`, docs/mutation.md),
+/// with the mutant. Two are results below the normal range (a of exponent
+/// field 253 or 254), where the rounding drops one or two more bits.
+pub const RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0x7F00_1001, 89),   // 3M's bit 13 inverted (fp_recip.v:145): 1 operand of 25.2M
+    (0x3F8E_FA43, 393),  // bit 2 of M inverted in rem_q - M (:157): 7
+    (0x3F81_64B0, 420),  // rem_q[6] flipped when rem_q[3] is 0 (:125): 14
+    (0x3F95_BF00, 474),  // bit 10 of the 2-step arm's rem_fixed (:152): 8
+    (0x3F80_A4DA, 768),  // bit 12 of M*q forced in 2^50 - M*q (:134): 323
+    (0x7E9B_C000, 1087), // rem_fixed[17] cleared in the sticky (:171): 2
+];
+
+/// `fp_sqrt` operands that kill mutants the other edge cases miss; see
+/// [`RECIP_MUTANT_KILLERS`].
+pub const SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0x3F84_4570, 686), // rem_full[13] flipped by bit 8 (fp_sqrt.v:152): 43 operands of 16.8M
+    (0x406E_9372, 872), // rem_full[8] inverted into rem_q (:232): 1
+];
 
 /// Operands of each step count of the exact methods' correction (for either
 /// method: the estimate is the same): for `fp_recip`, mantissas whose Newton
