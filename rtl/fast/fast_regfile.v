@@ -64,10 +64,10 @@ module fast_regfile #(
     // Which table an address is in.
     localparam [1:0] T_NONE = 2'd0, T_SCENE = 2'd1, T_CTX = 2'd2;
 
-    function [1:0] table_of(input [RB-1:0] a);
-        if (a < T0)
+    function [1:0] table_of(input [RB-1:0] addr);
+        if (addr < T0)
             table_of = T_SCENE;
-        else if (a < TEMP_END || (a >= STK0_O && {1'b0, a} < STK_END))
+        else if (addr < TEMP_END || (addr >= STK0_O && {1'b0, addr} < STK_END))
             table_of = T_CTX;
         else
             table_of = T_NONE;

@@ -95,23 +95,7 @@ pub fn run_fast_units(
     name: &str,
     vectors: &[[u32; 8]],
 ) -> ([u64; 6], String) {
-    let file = dir.join(format!("{name}.hex"));
-    let mut text = String::new();
-    for v in vectors {
-        for x in v {
-            write!(text, "{x:08x}").expect("string");
-        }
-        text.push('\n');
-    }
-    std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let out = Command::new("vvp")
-        .arg("-n")
-        .arg(vvp)
-        .arg(format!("+vectors={}", file.display()))
-        .output()
-        .expect("running vvp");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let stdout = run_vectors(vvp, dir, name, vectors);
     let summary = stdout
         .lines()
         .find_map(|l| l.strip_prefix("fast_fp_tb: "))
@@ -162,14 +146,7 @@ pub fn compile_fast_regfile(dir: &Path, stack_depth: u32) -> PathBuf {
 /// Runs fast_regfile_tb (with `+fault=N` when `fault`): the reads it
 /// checked and the mismatches it counted, and its whole stdout.
 pub fn run_fast_regfile(vvp: &Path, fault: Option<u64>) -> (u64, u64, String) {
-    let out = Command::new("vvp")
-        .arg("-n")
-        .arg(vvp)
-        .args(fault.map(|n| format!("+fault={n}")))
-        .output()
-        .expect("running vvp");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let stdout = run_tb(vvp, fault.map(|n| format!("+fault={n}")));
     let summary: Vec<u64> = stdout
         .lines()
         .find_map(|l| l.strip_prefix("done "))
@@ -203,23 +180,7 @@ pub fn compile_fast_alu(dir: &Path, exposure: bool) -> PathBuf {
 /// written to `dir`/`name`.hex: the cycles it read, the mismatches it
 /// counted, and its whole stdout.
 pub fn run_fast_alu(vvp: &Path, dir: &Path, name: &str, lines: &[[u32; 13]]) -> (u64, u64, String) {
-    let file = dir.join(format!("{name}.hex"));
-    let mut text = String::new();
-    for line in lines {
-        for w in line {
-            write!(text, "{w:08x}").expect("string");
-        }
-        text.push('\n');
-    }
-    std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let out = Command::new("vvp")
-        .arg("-n")
-        .arg(vvp)
-        .arg(format!("+vectors={}", file.display()))
-        .output()
-        .expect("running vvp");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    let stdout = run_vectors(vvp, dir, name, lines);
     let counts: Vec<u64> = stdout
         .lines()
         .find_map(|l| l.strip_prefix("fast_alu_tb: "))
@@ -231,6 +192,35 @@ pub fn run_fast_alu(vvp: &Path, dir: &Path, name: &str, lines: &[[u32; 13]]) -> 
         .unwrap_or_else(|| panic!("no summary from fast_alu_tb:\n{stdout}"));
     assert_eq!(counts.len(), 2, "{stdout}");
     (counts[0], counts[1], stdout)
+}
+
+/// Writes `rows` (32-bit words, hex, a row a line) to `dir`/`name`.hex and
+/// runs `vvp` on it (`+vectors=`): its stdout.
+fn run_vectors<const N: usize>(vvp: &Path, dir: &Path, name: &str, rows: &[[u32; N]]) -> String {
+    let file = dir.join(format!("{name}.hex"));
+    let mut text = String::new();
+    for row in rows {
+        for w in row {
+            write!(text, "{w:08x}").expect("string");
+        }
+        text.push('\n');
+    }
+    std::fs::write(&file, text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    run_tb(vvp, Some(format!("+vectors={}", file.display())))
+}
+
+/// Runs a compiled testbench with the plusargs `args`: its stdout, which
+/// must come with success.
+fn run_tb(vvp: &Path, args: impl IntoIterator<Item = String>) -> String {
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(vvp)
+        .args(args)
+        .output()
+        .expect("running vvp");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "vvp failed:\n{stdout}");
+    stdout
 }
 
 /// `iverilog -g2005 -Wall` of `sources` and tests/icarus/<tb>.v into `vvp`.

@@ -5,6 +5,7 @@
 //! operands, hands their values here, and writes the result.
 
 use super::isa::{op, Lanes};
+use super::OpClass;
 use crate::fp::{self, Method};
 use crate::scene::Vec3f;
 use std::panic::Location;
@@ -236,18 +237,10 @@ impl Alu {
     #[track_caller]
     pub fn apply(&mut self, code: u8, a: Vec3f, b: Vec3f, px: u32, py: u32) -> Option<Vec3f> {
         let at = Location::caller();
+        if let Some(OpClass::Add | OpClass::Mul) = OpClass::of(code) {
+            return Some(Alu::lanewise(code, a, b));
+        }
         Some(match code {
-            op::ADD
-            | op::SUB
-            | op::MUL
-            | op::NMUL
-            | op::MULX
-            | op::MULY
-            | op::MULZ
-            | op::NMULX
-            | op::MULR1
-            | op::MULR2
-            | op::MUL2X => Alu::lanewise(code, a, b),
             op::MOV => a,
             op::NEG => Alu::neg(a),
             op::ITOF => Alu::itof(px, py),
