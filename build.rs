@@ -116,6 +116,10 @@ const FAST_ALU_VARIANTS: &[(&str, &str, bool)] = &[
     ("exact", "exact", false),
 ];
 
+/// The fast processor's variants every build verilates, (recip, sqrt,
+/// exposure), each with its trace and fault ports (`PP_TRACE`).
+const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[("exact", "exact", true)];
+
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.
 const TOP_VARIANTS: &[(u32, &str, &str)] = &[(1, "exact", "exact"), (4, "exact", "exact")];
@@ -526,6 +530,57 @@ fn run() -> Result<(), String> {
         "the verilated fast ALU variants: X(class, recip code, sqrt code, exposure)",
         "RTCOSIM_FAST_ALU_MODELS",
         &alu_variants
+            .iter()
+            .map(|(prefix, recip, sqrt, exposure)| {
+                (
+                    prefix.clone(),
+                    format!("{recip}, {sqrt}, {}", u8::from(*exposure)),
+                )
+            })
+            .collect::<Vec<_>>(),
+    )?;
+
+    // The fast processor (rtl/fast/fast_pp.v), for harness::top's fast
+    // flavour: FAST_PP_VARIANTS.
+    let mut fast_pp_variants = Vec::new();
+    for &(recip, sqrt, exposure) in FAST_PP_VARIANTS {
+        let (Some(recip_code), Some(sqrt_code)) =
+            (method_code(&methods, recip), method_code(&methods, sqrt))
+        else {
+            return Err(format!(
+                "FAST_PP_VARIANTS names a method fp_defs.vh lacks: {recip}/{sqrt}"
+            ));
+        };
+        let suffix = if exposure { "" } else { "_noexp" };
+        fast_pp_variants.push((
+            format!("Vfast_pp_{recip}_{sqrt}{suffix}"),
+            recip_code,
+            sqrt_code,
+            exposure,
+        ));
+    }
+    models.extend(
+        fast_pp_variants
+            .iter()
+            .map(|(prefix, recip, sqrt, exposure)| Model {
+                prefix: prefix.clone(),
+                top: "fast_pp",
+                params: vec![
+                    ("RECIP_METHOD", *recip),
+                    ("SQRT_METHOD", *sqrt),
+                    ("EXPOSURE", u32::from(*exposure)),
+                ],
+                defines: vec!["PP_TRACE"],
+                includes: vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()],
+                sources: &fast_sources,
+                flavour: Flavour::Plain,
+            }),
+    );
+    write_models(
+        &out.join("rtcosim_fast_pp_models.h"),
+        "the verilated fast processor variants: X(class, recip code, sqrt code, exposure)",
+        "RTCOSIM_FAST_PP_MODELS",
+        &fast_pp_variants
             .iter()
             .map(|(prefix, recip, sqrt, exposure)| {
                 (

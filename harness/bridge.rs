@@ -295,6 +295,15 @@ pub(crate) mod ffi {
         /// these method codes; fails if that variant was not built.
         fn new_top(procs: u32, recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<TopSim>>;
 
+        /// Builds and resets the fast processor (rtl/fast/fast_pp.v) with
+        /// these method codes and exposure, as a top whose 32 processors
+        /// are its pixel contexts; fails if that variant was not built.
+        fn new_fast_top(
+            recip_method: u32,
+            sqrt_method: u32,
+            exposure: bool,
+        ) -> Result<UniquePtr<TopSim>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless scene_ready is then high. Forgets any frame.
         fn reset(self: Pin<&mut TopSim>) -> Result<()>;

@@ -44,6 +44,10 @@ use golden::trace::TraceEvent;
 use golden::window::Window;
 use std::collections::VecDeque;
 
+/// The fast processor's pixel contexts (`rtl/fast/fast_pp.v`, `CTX_BITS`
+/// = 5): the barrel's K.
+pub const FAST_CONTEXTS: u32 = 32;
+
 /// Results buffered on the C++ side before a batch returns to Rust.
 pub const RESULTS_PER_BATCH: u64 = 1024;
 /// Trace events buffered on the C++ side before a batch returns to Rust.
@@ -145,6 +149,26 @@ impl Top {
             sqrt,
             message: e.what().to_string(),
         })?;
+        Ok(Top::around(inner, procs, recip, sqrt))
+    }
+
+    /// Builds and resets the fast processor (`rtl/fast/fast_pp.v`) with
+    /// `RECIP_METHOD = recip`, `SQRT_METHOD = sqrt` and the exponential,
+    /// driven as a top whose [`FAST_CONTEXTS`] processors are its pixel
+    /// contexts: a pixel's cycles are the barrel rule's
+    /// (`golden::micro::barrel`), from the turn that took it to its done
+    /// turn.
+    pub fn new_fast(recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        let inner =
+            ffi::new_fast_top(recip.code(), sqrt.code(), true).map_err(|e| PpError::Build {
+                recip,
+                sqrt,
+                message: e.what().to_string(),
+            })?;
+        Ok(Top::around(inner, FAST_CONTEXTS, recip, sqrt))
+    }
+
+    fn around(inner: UniquePtr<ffi::TopSim>, procs: u32, recip: Method, sqrt: Method) -> Top {
         let mut top = Top {
             procs,
             recip,
@@ -158,7 +182,7 @@ impl Top {
             given: vec![0; procs as usize],
         };
         top.set_timeout_cycles(DEFAULT_TIMEOUT_CYCLES);
-        Ok(top)
+        top
     }
 
     /// The number of pixel processors.

@@ -49,4 +49,9 @@ public:
 // method codes (rtl/fp/fp_defs.vh); throws if that variant was not built.
 std::unique_ptr<TopSim> new_top(std::uint32_t procs, std::uint32_t recip_method, std::uint32_t sqrt_method);
 
+// Builds and resets the fast processor (rtl/fast/fast_pp.v, 32 contexts)
+// verilated with these method codes and exposure, driven as a top whose
+// processors are its contexts; throws if that variant was not built.
+std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
+
 }  // namespace rtcosim

@@ -83,7 +83,14 @@ module fast_alu #(
     localparam integer UNITS_AT = max2(max2(max2(MUL_AT, ADD_AT), max2(ITOF_AT, RECIP_AT)),
                                        max2(SQRT_AT, EXP_AT));
     localparam integer ALIGN    = 2 + UNITS_AT;
-    localparam integer LATENCY  = ALIGN + 2;   // golden::fp::pipelined::ALU_LATENCY
+    localparam integer LATENCY  = ALIGN + 2;   // golden::micro::alu::fast_latency
+    // fast_defs.vh states it for the processor around the ALU.
+    localparam integer STATED   = (EXPOSURE != 0) ? `FAST_ALU_LATENCY : `FAST_ALU_LATENCY_NOEXP;
+    generate
+        if (LATENCY != STATED) begin : g_latency_not_as_stated
+            fast_alu_latency_differs_from_fast_defs u_error ();
+        end
+    endgenerate
 
     // ------------------------------------------------------------------------
     // Stage 1: decode, operands, the context's F

@@ -16,5 +16,7 @@
 `define FAST_RECIP_LATENCY 18  // fast_fp_recip, either method: 1 + norm + 11 + round
 `define FAST_SQRT_LATENCY 22   // fast_fp_sqrt, either method: 1 + norm + 15 + round
 `define FAST_EXP_LATENCY 20    // fast_fp_exp: 17 + round
+`define FAST_ALU_LATENCY 27          // fast_alu with exposure (fast_alu checks it)
+`define FAST_ALU_LATENCY_NOEXP 26    // fast_alu without (EXPOSURE = 0)
 
 `endif

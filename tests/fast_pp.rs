@@ -1,0 +1,165 @@
+//! The fast pixel processor (rtl/fast/fast_pp.v) co-simulated through its
+//! streams against golden: every pixel's register-file writes are
+//! golden::micro's, in order, bit for bit, its colour is golden's, and its
+//! cycles and context, and the frame's cycles, are the barrel rule's
+//! (golden::micro::barrel) for the pixels in the order they were fed.
+//! Each checker is shown to fail: a fault planted in the RTL's writes, and
+//! a barrel of the wrong size, are reported.
+
+use golden::micro::barrel::{self, PixelWork};
+use golden::micro::fault::Fault;
+use golden::micro::isa::state;
+use golden::micro::Processor;
+use golden::scene::Scene;
+use golden::trace::TraceEvent;
+use golden::window::Window;
+use rtcosim::top::{Source, Top, FAST_CONTEXTS};
+
+/// Cycles a frame takes beyond the barrel rule's (fast_pp.v: one into the
+/// coordinate queue, two of the register file's read, one into the result
+/// queue).
+const FRAME_OVERHEAD: u64 = 4;
+
+fn builtin(name: &str, width: u32, height: u32) -> Scene {
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("builtin scene {name}"))
+        .resized(width, height, name)
+        .expect("a smaller image of a valid scene is valid")
+}
+
+/// What differs between a pixel's writes in the RTL and golden's, if anything.
+fn pixel_diff(rtl: &[TraceEvent], golden: &[TraceEvent]) -> Option<String> {
+    for (i, (r, g)) in rtl.iter().zip(golden).enumerate() {
+        if (r.state, r.dst, r.lanes, r.values) != (g.state, g.dst, g.lanes, g.values) {
+            return Some(format!("write #{i}: rtl {r:?}, golden {g:?}"));
+        }
+    }
+    (rtl.len() != golden.len()).then(|| format!("{} writes, golden {}", rtl.len(), golden.len()))
+}
+
+/// Runs `coords` (each once) of `scene` through the fast processor with
+/// `fault` planted, and checks it against golden and a barrel of
+/// `contexts`: the divergences found, one line each.
+fn cosim(scene: &Scene, coords: &[(u32, u32)], fault: Option<Fault>, contexts: u32) -> Vec<String> {
+    let g = Processor::new(scene);
+    let mut t =
+        Top::new_fast(scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
+    t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
+    t.set_fault(fault, u32::MAX);
+    let mut bad = Vec::new();
+    let mut got = Vec::new();
+    let stats = t
+        .run_frame(Source::Stream(coords), &mut |p| {
+            let mut events = Vec::new();
+            let r = g.render_pixel(p.x, p.y, |e, _| events.push(*e));
+            if let Some(d) = pixel_diff(p.events, &events) {
+                bad.push(format!("({}, {}): {d}", p.x, p.y));
+            }
+            if p.outcome.rgb != r.rgb.map(f32::to_bits) {
+                bad.push(format!(
+                    "({}, {}): colour {:?}, golden {:?}",
+                    p.x, p.y, p.outcome.rgb, r.rgb
+                ));
+            }
+            got.push(((p.x, p.y), p.processor, p.outcome.cycles));
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(got.len(), coords.len(), "every pixel came back");
+    // The barrel rule, for the pixels in the order they were fed; contexts
+    // are numbered from the one that took the first pixel.
+    let work: Vec<PixelWork> = coords
+        .iter()
+        .map(|&(x, y)| PixelWork::of(&g.render_pixel(x, y, |_, _| {})))
+        .collect();
+    let run = barrel::run(contexts, &work);
+    let first = got
+        .iter()
+        .find(|(at, _, _)| *at == coords[0])
+        .map_or(0, |g| g.1);
+    for &(at, ctx, cycles) in &got {
+        let i = coords.iter().position(|&c| c == at).expect("a pixel fed");
+        let want = run.pixels[i];
+        let context = (ctx + FAST_CONTEXTS - first) % FAST_CONTEXTS;
+        if (cycles, context) != (want.cycles(), want.context) {
+            bad.push(format!(
+                "{at:?}: context {context}, {cycles} cycles; barrel: context {}, {} cycles",
+                want.context,
+                want.cycles()
+            ));
+        }
+    }
+    if stats.frame_cycles != run.cycles + FRAME_OVERHEAD {
+        bad.push(format!(
+            "the frame took {} cycles; barrel {} + {FRAME_OVERHEAD}",
+            stats.frame_cycles, run.cycles
+        ));
+    }
+    bad
+}
+
+fn assert_exact(bad: &[String]) {
+    assert!(
+        bad.is_empty(),
+        "{} divergences:\n{}",
+        bad.len(),
+        bad[..bad.len().min(20)].join("\n")
+    );
+}
+
+fn window(x: u32, y: u32, width: u32, height: u32) -> Vec<(u32, u32)> {
+    Window {
+        x,
+        y,
+        width,
+        height,
+    }
+    .iter()
+    .collect()
+}
+
+#[test]
+fn fast_processor_draws_a_reference_window_as_golden_and_the_barrel() {
+    let scene = builtin("reference", 40, 30);
+    assert_exact(&cosim(&scene, &window(8, 6, 12, 8), None, FAST_CONTEXTS));
+}
+
+/// Fewer pixels than contexts (most contexts idle throughout), and one
+/// pixel alone.
+#[test]
+fn fast_processor_is_exact_with_idle_contexts() {
+    let scene = builtin("reference", 40, 30);
+    assert_exact(&cosim(&scene, &window(20, 14, 5, 1), None, FAST_CONTEXTS));
+    assert_exact(&cosim(&scene, &[(3, 4)], None, FAST_CONTEXTS));
+}
+
+/// The checkers fail: a fault in the RTL's writes is a divergence of the
+/// pixels it touches, and a barrel of other than the RTL's contexts
+/// predicts other cycles.
+#[test]
+fn fast_processor_checkers_fail_on_injected_faults() {
+    let scene = builtin("reference", 40, 30);
+    let coords = window(8, 6, 12, 8);
+    let fault = Fault {
+        state: state::PRI_HALF,
+        xor: 1 << 20,
+    };
+    let bad = cosim(&scene, &coords, Some(fault), FAST_CONTEXTS);
+    let written = bad.iter().filter(|b| b.contains("write #1: rtl")).count();
+    assert_eq!(
+        written,
+        coords.len(),
+        "every pixel's PRI_HALF write is hit:\n{}",
+        bad.join("\n")
+    );
+    let bad = cosim(&scene, &coords, None, FAST_CONTEXTS - 1);
+    assert!(
+        bad.iter().any(|b| b.contains("cycles; barrel")),
+        "{}",
+        bad.join("\n")
+    );
+    assert!(
+        bad.iter().any(|b| b.contains("the frame took")),
+        "{}",
+        bad.join("\n")
+    );
+}
