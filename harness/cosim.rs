@@ -22,9 +22,11 @@
 
 use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
-use crate::top::{FrameStats, Source, Top};
+use crate::processor::ProcessorKind;
+use crate::top::{FrameStats, Source, Top, FAST_CONTEXTS};
 use golden::fp::Method;
 use golden::frame::Frame;
+use golden::micro::barrel::{self, PixelWork};
 use golden::micro::isa::state_label;
 use golden::micro::Processor;
 use golden::pixel::PixelOutcome;
@@ -75,23 +77,67 @@ pub struct CosimReport {
 /// How to drive the top in [`run_top`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TopOptions {
+    /// Which processor: the compact one's top (rtl/top.v with `procs`
+    /// processors), or the fast processor ([`FAST_CONTEXTS`] contexts, no
+    /// top around it: `procs` must be 1).
+    pub processor: ProcessorKind,
     /// Pixel processors (a verilated variant of rtl/top.v).
     pub procs: u32,
     /// `out_ready` low in this share of cycles (percent, seeded per tile).
     pub stall_percent: u32,
 }
 
+impl TopOptions {
+    /// The compact processor's top with `procs` processors, never stalled.
+    pub fn compact(procs: u32) -> TopOptions {
+        TopOptions {
+            processor: ProcessorKind::Compact,
+            procs,
+            stall_percent: 0,
+        }
+    }
+
+    /// The fast processor, never stalled.
+    pub fn fast() -> TopOptions {
+        TopOptions {
+            processor: ProcessorKind::Fast,
+            procs: 1,
+            stall_percent: 0,
+        }
+    }
+
+    /// The verilated model these options name.
+    fn build(&self, recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        match self.processor {
+            ProcessorKind::Compact => Top::new(self.procs, recip, sqrt),
+            ProcessorKind::Fast => Top::new_fast(recip, sqrt),
+        }
+    }
+}
+
 /// What the top cost over a window: its tiles run back to back.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TopReport {
+    pub processor: ProcessorKind,
+    /// Processors of the top, or the fast processor's contexts.
     pub procs: u32,
     pub tiles: u64,
     /// The tiles' costs added up: frame cycles are the sum of each tile's
     /// first coordinate in to last result out.
     pub stats: FrameStats,
+    /// The fast processor: the frame cycles the barrel rule predicts for
+    /// the tiles (`golden::micro::barrel::run` + [`FAST_FRAME_OVERHEAD`]
+    /// each), which `stats.frame_cycles` must equal.
+    pub predicted_frame_cycles: Option<u64>,
 }
 
 impl TopReport {
+    /// Whether the frame took the cycles predicted, where one was.
+    pub fn frame_cycles_agree(&self) -> bool {
+        self.predicted_frame_cycles
+            .map_or(true, |p| p == self.stats.frame_cycles)
+    }
+
     /// The share of processor cycles without a pixel.
     pub fn idle_share(&self) -> f64 {
         self.stats.idle_share(self.procs)
@@ -133,15 +179,16 @@ impl Frames {
 impl CosimReport {
     /// True when pixels ran, events were compared, and nothing diverged.
     pub fn passed(&self) -> bool {
-        self.compare.passed()
+        self.compare.passed() && self.top.map_or(true, |t| t.frame_cycles_agree())
     }
 }
 
 impl fmt::Display for CosimReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let processor = self.top.map_or(ProcessorKind::Compact, |t| t.processor);
         write!(
             f,
-            "pixel processor (recip {}, sqrt {}), window {}",
+            "{processor} pixel processor (recip {}, sqrt {}), window {}",
             self.recip,
             self.sqrt,
             self.window.describe()
@@ -155,7 +202,26 @@ impl fmt::Display for CosimReport {
             )?;
         }
         writeln!(f, ": {} pixels", self.compare.counts.pixels)?;
-        if let Some(t) = &self.top {
+        if let Some(t) = self.top.filter(|t| t.processor == ProcessorKind::Fast) {
+            writeln!(
+                f,
+                "  {} contexts, {} tile{}: {} frame cycles (first coordinate in to last result \
+                 out; {:.2} a pixel), {}; {:.1}% of context cycles without a pixel, {} batches",
+                t.procs,
+                t.tiles,
+                if t.tiles == 1 { "" } else { "s" },
+                t.stats.frame_cycles,
+                t.stats.frame_cycles as f64 / t.stats.pixels.max(1) as f64,
+                match t.predicted_frame_cycles {
+                    Some(p) if p == t.stats.frame_cycles =>
+                        "as the barrel rule predicts".to_string(),
+                    Some(p) => format!("DIVERGENT: the barrel rule predicts {p}"),
+                    None => "no prediction".to_string(),
+                },
+                100.0 * t.idle_share(),
+                t.stats.batches
+            )?;
+        } else if let Some(t) = &self.top {
             writeln!(
                 f,
                 "  top: {} processor{}, {} tile{}: {} frame cycles (first coordinate in to last \
@@ -354,6 +420,11 @@ where
     Ok(out)
 }
 
+/// Cycles a frame of the fast processor takes beyond the barrel rule's
+/// (`rtl/fast/fast_pp.v`: one into the coordinate queue, two of the
+/// register file's read, one into the result queue).
+pub const FAST_FRAME_OVERHEAD: u64 = 4;
+
 /// Rows of the window in a tile of [`run_top`]: a tile is this many rows
 /// (fewer at the bottom) of the window's full width.
 pub const TILE_ROWS: u32 = 4;
@@ -388,13 +459,25 @@ pub fn run_top(
     window.check_inside(scene.camera.width, scene.camera.height)?;
     let golden = Processor::new(scene);
     let all_procs = u32::MAX;
+    let fast = top.processor == ProcessorKind::Fast;
     let make = || {
-        let mut t = Top::new(top.procs, scene.render.recip, scene.render.sqrt)?;
+        let mut t = top.build(scene.render.recip, scene.render.sqrt)?;
         t.set_timeout_cycles(options.timeout_cycles);
         t.set_fault(options.fault, all_procs);
         Ok(t)
     };
-    type Tile = (CompareReport, Vec<Colours>, FrameStats);
+    // The fast processor's cycles are the barrel rule's for the tile's
+    // pixels in the order they are fed: (each pixel's, the frame's).
+    let barrel_of = |coords: &[(u32, u32)]| -> (Vec<u64>, u64) {
+        let work: Vec<PixelWork> = coords
+            .iter()
+            .map(|&(x, y)| PixelWork::of(&golden.render_pixel(x, y, |_, _| {})))
+            .collect();
+        let run = barrel::run(FAST_CONTEXTS, &work);
+        let cycles = run.pixels.iter().map(|p| p.cycles()).collect();
+        (cycles, run.cycles + FAST_FRAME_OVERHEAD)
+    };
+    type Tile = (CompareReport, Vec<Colours>, FrameStats, u64);
     let tiles = tiles(window);
     let done: Vec<Tile> = par_units(
         &tiles,
@@ -404,6 +487,11 @@ pub fn run_top(
             t.load_scene(scene)?;
             t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
             let coords: Vec<(u32, u32)> = tile.iter().collect();
+            let (barrel_cycles, barrel_frame) = if fast {
+                barrel_of(&coords)
+            } else {
+                (Vec::new(), 0)
+            };
             let mut report = CompareReport::new(Labels::rtl_golden());
             let mut colours = Vec::new();
             let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
@@ -415,7 +503,13 @@ pub fn run_top(
                     p.outcome,
                     |sink| {
                         let result = golden.render_pixel(p.x, p.y, |e, at| sink(e, Some(at)));
-                        PixelOutcome::from(&result)
+                        let mut outcome = PixelOutcome::from(&result);
+                        if fast {
+                            // The tile's pixels are distinct, fed row by row.
+                            let i = (p.y - tile.y) * tile.width + (p.x - tile.x);
+                            outcome.cycles = barrel_cycles[i as usize];
+                        }
+                        outcome
                     },
                 );
                 report.add(&v);
@@ -425,23 +519,27 @@ pub fn run_top(
             })?;
             colours.sort_by_key(|&(at, _)| at);
             let colours = colours.into_iter().map(|(_, c)| c).collect();
-            Ok(((report, colours, stats), tile.pixels()))
+            Ok(((report, colours, stats, barrel_frame), tile.pixels()))
         },
         progress,
     )?;
     let mut compare = CompareReport::new(Labels::rtl_golden());
     let mut colours = Vec::new();
     let mut stats = FrameStats::default();
-    for (report, tile_colours, tile_stats) in done {
+    let mut predicted = 0;
+    for (report, tile_colours, tile_stats, tile_predicted) in done {
         compare.merge(report);
         colours.push(tile_colours);
         stats.add(&tile_stats);
+        predicted += tile_predicted;
     }
     let mut r = report(scene, window, options, compare, colours);
     r.top = Some(TopReport {
-        procs: top.procs,
+        processor: top.processor,
+        procs: if fast { FAST_CONTEXTS } else { top.procs },
         tiles: tiles.len() as u64,
         stats,
+        predicted_frame_cycles: fast.then_some(predicted),
     });
     Ok(r)
 }

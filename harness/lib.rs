@@ -9,6 +9,8 @@
 //!   opcodes of interleaved contexts against golden's micro-op ALU.
 //! - [`pixel_proc`]: the verilated pixel processor, one pixel per call, with
 //!   its trace and fault-injection ports.
+//! - [`processor`]: which pixel processor: the compact one or the fast one
+//!   (rtl/fast/fast_pp.v, driven through [`top`]).
 //! - [`top`]: the verilated top module (rtl/top.v), N pixel processors fed a
 //!   coordinate stream, driven in batches of results and trace events.
 //! - [`compare`]: the comparison engine: two event streams and two pixel
@@ -46,6 +48,7 @@ pub mod fuzz;
 pub mod mutation;
 pub mod operands;
 pub mod pixel_proc;
+pub mod processor;
 pub mod rtl_source;
 pub mod scenes;
 pub mod shard;

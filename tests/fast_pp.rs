@@ -163,3 +163,37 @@ fn fast_processor_checkers_fail_on_injected_faults() {
         bad.join("\n")
     );
 }
+
+/// Every builtin scene, a whole reduced frame, through the co-simulation
+/// engine (`cosim::run_top`, tiles of 4 rows): every event, colour and
+/// pixel cycle count, and each tile's frame cycles, as golden and the
+/// barrel rule say.
+#[test]
+fn every_builtin_scene_agrees_on_the_fast_processor() {
+    use rtcosim::cosim::{self, CosimOptions, TopOptions};
+    for &name in Scene::builtin_names() {
+        let scene = builtin(name, 32, 24);
+        let window = Window::full(&scene);
+        let r = cosim::run_top(
+            &scene,
+            window,
+            &CosimOptions::default(),
+            &TopOptions::fast(),
+            &|_| {},
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let c = &r.compare.counts;
+        assert_eq!(c.pixels, window.pixels(), "{name}\n{r}");
+        assert!(
+            c.events_compared > 0 && c.events_compared == c.b_events,
+            "{name}\n{r}"
+        );
+        assert_eq!(c.a_cycles, c.b_cycles, "{name}\n{r}");
+        let t = r.top.expect("the fast processor's report");
+        assert!(
+            t.predicted_frame_cycles.is_some() && t.frame_cycles_agree(),
+            "{name}\n{r}"
+        );
+        assert!(r.passed(), "{name}\n{r}");
+    }
+}

@@ -123,10 +123,7 @@ fn the_report_through_the_top_is_the_bare_processors_for_any_n_and_threads() {
                 .num_threads(threads)
                 .build()
                 .expect("a pool");
-            let top = TopOptions {
-                procs,
-                stall_percent: 0,
-            };
+            let top = TopOptions::compact(procs);
             let r = pool
                 .install(|| cosim::run_top(&scene, window, &options, &top, &|_| {}))
                 .unwrap_or_else(|e| panic!("{e}"));
@@ -239,10 +236,7 @@ fn bad_coordinates_and_scenes_are_refused_before_simulation() {
         .err()
         .expect("N = 3 is not built");
     assert!(err.to_string().contains("3 processors"), "{err}");
-    let top = TopOptions {
-        procs: 4,
-        stall_percent: 0,
-    };
+    let top = TopOptions::compact(4);
     let r = cosim::run_top(
         &scene,
         Window::new(30, 0, 11, 1),
@@ -330,10 +324,7 @@ fn the_fault_self_test_works_through_the_top() {
         ..CosimOptions::default()
     };
     let bare = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
-    let top = TopOptions {
-        procs: 4,
-        stall_percent: 0,
-    };
+    let top = TopOptions::compact(4);
     let through = cosim::run_top(&scene, window, &options, &top, &|_| {}).expect("runs");
     assert!(!through.passed());
     assert_eq!(through.compare.counts.divergent_pixels, window.pixels());

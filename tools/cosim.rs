@@ -12,6 +12,8 @@ use golden::window::Window;
 use rtcosim::artefacts;
 use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::processor::ProcessorKind;
+use rtcosim::top::FAST_CONTEXTS;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -27,6 +29,12 @@ pub struct CosimArgs {
     pub window: Option<Window>,
     #[command(flatten)]
     pub threads: ThreadsArgs,
+    /// The pixel processor: compact (rtl/pp/pixel_processor.v, one pixel at
+    /// a time) or fast (rtl/fast/fast_pp.v: 32 pixel contexts in turns,
+    /// pipelined, its cycles the barrel rule's, golden::micro::barrel; run
+    /// through its streams, the window in tiles of 4 rows).
+    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    pub processor: ProcessorKind,
     /// Drive the top module (rtl/top.v) with N pixel processors instead of
     /// one bare pixel processor per thread: tiles of the window are streamed
     /// through one top per thread, and the report adds the top's frame
@@ -37,7 +45,7 @@ pub struct CosimArgs {
     pub procs: Option<u32>,
     /// With --procs: hold the top's result stream back (out_ready low) in
     /// this percentage of the cycles, drawn from a seeded generator.
-    #[arg(long, value_name = "PERCENT", default_value_t = 0, requires = "procs",
+    #[arg(long, value_name = "PERCENT", default_value_t = 0,
           allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=99))]
     pub stall: u32,
     /// Cycles a pixel may take before the RTL counts as hung: the run stops
@@ -93,10 +101,26 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         check_window("--trace-window", trace_window, &scene)?;
         check_parent_dir("--trace", path)?;
     }
-    if args.coverage.coverage.is_some() && args.procs.is_some() {
+    let fast = args.processor == ProcessorKind::Fast;
+    if fast && args.procs.is_some() {
         anyhow::bail!(
-            "--coverage measures the pixel processor run bare; --procs drives the top, \
-             which has no coverage model: drop one of them"
+            "--procs drives rtl/top.v, whose processors are compact ones; the fast processor \
+             runs its 32 contexts without a top: drop --procs or --processor fast"
+        );
+    }
+    if fast && (args.trace.is_some() || args.wave.wave.is_some()) {
+        anyhow::bail!(
+            "--trace and --wave re-run pixels on the compact processor's models; the fast \
+             processor has no traced or FST model yet: drop them, or use --processor compact"
+        );
+    }
+    if args.stall > 0 && args.procs.is_none() && !fast {
+        anyhow::bail!("--stall holds back a result stream: it needs --procs or --processor fast");
+    }
+    if args.coverage.coverage.is_some() && (args.procs.is_some() || fast) {
+        anyhow::bail!(
+            "--coverage measures the compact pixel processor run bare; --procs and --processor \
+             fast have no coverage model: drop one of them"
         );
     }
     args.coverage.enable()?;
@@ -111,8 +135,9 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim cosim: scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), window {window} \
-         ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
+        "rtcosim cosim: {} processor, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), \
+         window {window} ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
+        args.processor,
         args.scene.scene,
         scene.render.max_depth,
         scene.render_hash(),
@@ -121,15 +146,18 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         scene.render.recip,
         scene.render.sqrt,
         plural(threads as u64),
-        args.procs.map_or(String::new(), |n| format!(
-            ", through the top with {n} processor{}{}",
-            plural(u64::from(n)),
-            if args.stall > 0 {
-                format!(" (result stream held back {}% of cycles)", args.stall)
-            } else {
-                String::new()
-            }
-        )),
+        match (args.procs, args.stall) {
+            (Some(n), _) => format!(
+                ", through the top with {n} processor{}",
+                plural(u64::from(n))
+            ),
+            (None, _) if fast => format!(", {FAST_CONTEXTS} contexts"),
+            _ => String::new(),
+        } + &if args.stall > 0 {
+            format!(" (result stream held back {}% of cycles)", args.stall)
+        } else {
+            String::new()
+        },
         rtcosim::VERILATOR_VERSION
     )?;
     if let Some(fault) = args.fault {
@@ -155,14 +183,17 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         "{percent:>3}% {pos}/{len} pixels ({per_sec}, {eta})",
     )?;
     let start = Instant::now();
-    let result = pool.install(|| match args.procs {
-        Some(procs) => {
-            let top = TopOptions {
-                procs,
-                stall_percent: args.stall,
-            };
-            cosim::run_top(&scene, window, &options, &top, &|n| bar.inc(n))
-        }
+    let top = match (args.processor, args.procs) {
+        (ProcessorKind::Fast, _) => Some(TopOptions::fast()),
+        (ProcessorKind::Compact, Some(procs)) => Some(TopOptions::compact(procs)),
+        (ProcessorKind::Compact, None) => None,
+    }
+    .map(|t| TopOptions {
+        stall_percent: args.stall,
+        ..t
+    });
+    let result = pool.install(|| match &top {
+        Some(top) => cosim::run_top(&scene, window, &options, top, &|n| bar.inc(n)),
         None => cosim::run(&scene, window, &options, &|n| bar.inc(n)),
     });
     let seconds = start.elapsed().as_secs_f64();
@@ -217,8 +248,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
             )
         })?;
     }
-    args.wave
-        .write(&mut out, &scene, &report, args.out.as_deref())?;
+    if !fast {
+        args.wave
+            .write(&mut out, &scene, &report, args.out.as_deref())?;
+    }
     Ok(report.passed())
 }
 
