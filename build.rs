@@ -118,7 +118,13 @@ const FAST_ALU_VARIANTS: &[(&str, &str, bool)] = &[
 
 /// The fast processor's variants every build verilates, (recip, sqrt,
 /// exposure), each with its trace and fault ports (`PP_TRACE`).
-const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[("exact", "exact", true)];
+/// Every method pair, as the compact processor (the fuzzer draws them).
+const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[
+    ("exact", "exact", true),
+    ("exact", "fast", true),
+    ("fast", "exact", true),
+    ("fast", "fast", true),
+];
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.

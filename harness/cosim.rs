@@ -106,12 +106,17 @@ impl TopOptions {
         }
     }
 
-    /// The verilated model these options name.
-    fn build(&self, recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        match self.processor {
+    /// The verilated model these options name, for `scene`'s methods,
+    /// with the options' timeout and fault.
+    pub fn build_for(&self, scene: &Scene, options: &CosimOptions) -> Result<Top, PpError> {
+        let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
+        let mut t = match self.processor {
             ProcessorKind::Compact => Top::new(self.procs, recip, sqrt),
             ProcessorKind::Fast => Top::new_fast(recip, sqrt),
-        }
+        }?;
+        t.set_timeout_cycles(options.timeout_cycles);
+        t.set_fault(options.fault, u32::MAX);
+        Ok(t)
     }
 }
 
@@ -458,90 +463,140 @@ pub fn run_top(
 ) -> Result<CosimReport, CosimError> {
     window.check_inside(scene.camera.width, scene.camera.height)?;
     let golden = Processor::new(scene);
-    let all_procs = u32::MAX;
+    let tiles = tiles(window);
+    let done: Vec<TileRun> = par_units(
+        &tiles,
+        || top.build_for(scene, options),
+        |t: &mut Top, tile: &Window| {
+            let run = run_tile(t, scene, &golden, *tile, options, top, &mut |_| {})?;
+            Ok((run, tile.pixels()))
+        },
+        progress,
+    )?;
+    Ok(top_report(scene, window, options, top, done))
+}
+
+/// [`run_top`] on a model the caller keeps (built by
+/// [`TopOptions::build_for`]), the tiles one after another on this thread,
+/// `each` called with every pixel's verdict (a fuzz campaign's workers).
+pub fn run_top_on(
+    t: &mut Top,
+    scene: &Scene,
+    window: Window,
+    options: &CosimOptions,
+    top: &TopOptions,
+    each: &mut dyn FnMut(&PixelVerdict),
+) -> Result<CosimReport, CosimError> {
+    window.check_inside(scene.camera.width, scene.camera.height)?;
+    let golden = Processor::new(scene);
+    let done = tiles(window)
+        .into_iter()
+        .map(|tile| run_tile(t, scene, &golden, tile, options, top, each))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(top_report(scene, window, options, top, done))
+}
+
+/// What one tile cost and found.
+struct TileRun {
+    compare: CompareReport,
+    colours: Vec<Colours>,
+    stats: FrameStats,
+    /// The fast processor: the frame cycles the barrel rule predicts.
+    predicted: u64,
+}
+
+/// Streams `tile` of `scene` through `t` (reset and loaded for the tile,
+/// so that its cycles are its own) and compares every pixel with golden as
+/// its result leaves. The fast processor's cycles are the barrel rule's
+/// for the tile's pixels in the order they are fed.
+fn run_tile(
+    t: &mut Top,
+    scene: &Scene,
+    golden: &Processor,
+    tile: Window,
+    options: &CosimOptions,
+    top: &TopOptions,
+    each: &mut dyn FnMut(&PixelVerdict),
+) -> Result<TileRun, PpError> {
     let fast = top.processor == ProcessorKind::Fast;
-    let make = || {
-        let mut t = top.build(scene.render.recip, scene.render.sqrt)?;
-        t.set_timeout_cycles(options.timeout_cycles);
-        t.set_fault(options.fault, all_procs);
-        Ok(t)
-    };
-    // The fast processor's cycles are the barrel rule's for the tile's
-    // pixels in the order they are fed: (each pixel's, the frame's).
-    let barrel_of = |coords: &[(u32, u32)]| -> (Vec<u64>, u64) {
+    t.load_scene(scene)?;
+    t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
+    let coords: Vec<(u32, u32)> = tile.iter().collect();
+    let (barrel_cycles, predicted) = if fast {
         let work: Vec<PixelWork> = coords
             .iter()
             .map(|&(x, y)| PixelWork::of(&golden.render_pixel(x, y, |_, _| {})))
             .collect();
         let run = barrel::run(FAST_CONTEXTS, &work);
-        let cycles = run.pixels.iter().map(|p| p.cycles()).collect();
+        let cycles: Vec<u64> = run.pixels.iter().map(|p| p.cycles()).collect();
         (cycles, run.cycles + FAST_FRAME_OVERHEAD)
+    } else {
+        (Vec::new(), 0)
     };
-    type Tile = (CompareReport, Vec<Colours>, FrameStats, u64);
-    let tiles = tiles(window);
-    let done: Vec<Tile> = par_units(
-        &tiles,
-        make,
-        |t: &mut Top, tile: &Window| {
-            // Reset and load per tile: the tile's cycles are its own.
-            t.load_scene(scene)?;
-            t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
-            let coords: Vec<(u32, u32)> = tile.iter().collect();
-            let (barrel_cycles, barrel_frame) = if fast {
-                barrel_of(&coords)
-            } else {
-                (Vec::new(), 0)
-            };
-            let mut report = CompareReport::new(Labels::rtl_golden());
-            let mut colours = Vec::new();
-            let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
-                let v = compare_pixel(
-                    p.x,
-                    p.y,
-                    Tolerance::default(),
-                    p.events,
-                    p.outcome,
-                    |sink| {
-                        let result = golden.render_pixel(p.x, p.y, |e, at| sink(e, Some(at)));
-                        let mut outcome = PixelOutcome::from(&result);
-                        if fast {
-                            // The tile's pixels are distinct, fed row by row.
-                            let i = (p.y - tile.y) * tile.width + (p.x - tile.x);
-                            outcome.cycles = barrel_cycles[i as usize];
-                        }
-                        outcome
-                    },
-                );
-                report.add(&v);
-                if options.keep_frames {
-                    colours.push(((p.y, p.x), (v.a.rgb, v.b.rgb)));
+    let mut compare = CompareReport::new(Labels::rtl_golden());
+    let mut colours = Vec::new();
+    let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
+        let v = compare_pixel(
+            p.x,
+            p.y,
+            Tolerance::default(),
+            p.events,
+            p.outcome,
+            |sink| {
+                let result = golden.render_pixel(p.x, p.y, |e, at| sink(e, Some(at)));
+                let mut outcome = PixelOutcome::from(&result);
+                if fast {
+                    // The tile's pixels are distinct, fed row by row.
+                    let i = (p.y - tile.y) * tile.width + (p.x - tile.x);
+                    outcome.cycles = barrel_cycles[i as usize];
                 }
-            })?;
-            colours.sort_by_key(|&(at, _)| at);
-            let colours = colours.into_iter().map(|(_, c)| c).collect();
-            Ok(((report, colours, stats, barrel_frame), tile.pixels()))
-        },
-        progress,
-    )?;
+                outcome
+            },
+        );
+        each(&v);
+        compare.add(&v);
+        if options.keep_frames {
+            colours.push(((p.y, p.x), (v.a.rgb, v.b.rgb)));
+        }
+    })?;
+    colours.sort_by_key(|&(at, _)| at);
+    Ok(TileRun {
+        compare,
+        colours: colours.into_iter().map(|(_, c)| c).collect(),
+        stats,
+        predicted,
+    })
+}
+
+/// The tiles' runs, in tile order, as one report.
+fn top_report(
+    scene: &Scene,
+    window: Window,
+    options: &CosimOptions,
+    top: &TopOptions,
+    done: Vec<TileRun>,
+) -> CosimReport {
+    let fast = top.processor == ProcessorKind::Fast;
+    let tiles = done.len() as u64;
     let mut compare = CompareReport::new(Labels::rtl_golden());
     let mut colours = Vec::new();
     let mut stats = FrameStats::default();
     let mut predicted = 0;
-    for (report, tile_colours, tile_stats, tile_predicted) in done {
-        compare.merge(report);
-        colours.push(tile_colours);
-        stats.add(&tile_stats);
-        predicted += tile_predicted;
+    for tile in done {
+        compare.merge(tile.compare);
+        colours.push(tile.colours);
+        stats.add(&tile.stats);
+        predicted += tile.predicted;
     }
     let mut r = report(scene, window, options, compare, colours);
     r.top = Some(TopReport {
         processor: top.processor,
         procs: if fast { FAST_CONTEXTS } else { top.procs },
-        tiles: tiles.len() as u64,
+        tiles,
         stats,
         predicted_frame_cycles: fast.then_some(predicted),
     });
-    Ok(r)
+    r
 }
 
 /// Co-simulates `window` of `scene` (the RTL variant with the scene's

@@ -8,6 +8,7 @@
 use golden::micro::isa::state;
 use rtcosim::fuzz::{self, Fate, FuzzOptions, FuzzReport};
 use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::processor::ProcessorKind;
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {
@@ -24,6 +25,7 @@ fn campaign(seed: u64, count: u64, fault: Option<Fault>, dir: &Path) -> FuzzRepo
         failures_dir: Some(dir.to_path_buf()),
         timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
         fault,
+        processor: ProcessorKind::Compact,
     };
     fuzz::run(&options, &|_| {}).expect("the failures directory is writable")
 }

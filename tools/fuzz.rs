@@ -8,6 +8,7 @@ use golden::micro::isa;
 use rtcosim::fuzz::summary::{self, Campaign, Summary};
 use rtcosim::fuzz::{self, FuzzOptions};
 use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::processor::ProcessorKind;
 use rtcosim::shard::file::{self as shard_file, ShardFile};
 use rtcosim::shard::Shard;
 use std::io::Write;
@@ -29,6 +30,10 @@ pub struct FuzzArgs {
     /// with `rtcosim cosim --scene FILE`).
     #[arg(long, value_name = "DIR", default_value = "fuzz-failures")]
     pub failures: PathBuf,
+    /// The pixel processor the scenes run on: compact or fast (as `cosim
+    /// --processor`).
+    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    pub processor: ProcessorKind,
     #[command(flatten)]
     pub threads: ThreadsArgs,
     #[command(flatten)]
@@ -65,8 +70,15 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
     }
+    if args.coverage.coverage.is_some() && args.processor == ProcessorKind::Fast {
+        anyhow::bail!(
+            "--coverage measures the compact pixel processor; the fast one has no coverage model: \
+             drop --coverage or --processor fast"
+        );
+    }
     args.coverage.enable()?;
     let campaign = Campaign {
+        processor: args.processor.name().to_string(),
         seed: args.seed,
         first: args.first,
         count: args.count,
@@ -81,7 +93,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim fuzz: {} scene{} from index {}, seed {}{}, {threads} thread{}, {}",
+        "rtcosim fuzz: {} scene{} from index {}, seed {}{}, {} processor, {threads} thread{}, {}",
         args.count,
         plural(args.count),
         args.first,
@@ -90,6 +102,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
             ", shard {s} ({} scenes)",
             indices.len()
         )),
+        args.processor,
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
@@ -102,6 +115,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         failures_dir: Some(args.failures.clone()),
         timeout_cycles: args.timeout_cycles,
         fault: args.fault,
+        processor: args.processor,
     };
     let bar = progress_bar(
         indices.len() as u64,

@@ -12,8 +12,10 @@ pub mod generate;
 pub mod summary;
 
 use crate::compare::{CompareReport, Labels, StateSet};
-use crate::cosim::{self, CosimError, CosimOptions};
+use crate::cosim::{self, CosimError, CosimOptions, TopOptions};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
+use crate::processor::ProcessorKind;
+use crate::top::Top;
 use generate::Generated;
 use golden::fp::Method;
 use golden::scene::Scene;
@@ -134,29 +136,41 @@ pub struct FuzzOptions {
     /// A fault injected into the RTL of every scene (a self-test: every
     /// accepted scene whose pixels write in that state must fail).
     pub fault: Option<Fault>,
+    /// The pixel processor the scenes run on.
+    pub processor: ProcessorKind,
 }
 
-/// The verilated models of one worker thread, one per method pair, built
-/// when first needed.
+/// The verilated models of one worker thread, one per method pair (the
+/// compact processors, or the fast ones), built when first needed.
 #[derive(Default)]
-struct Models(Vec<((Method, Method), PixelProcessor)>);
+struct Models {
+    compact: Vec<((Method, Method), PixelProcessor)>,
+    fast: Vec<((Method, Method), Top)>,
+}
 
-impl Models {
-    fn get(&mut self, recip: Method, sqrt: Method) -> Result<&mut PixelProcessor, PpError> {
-        let i = match self.0.iter().position(|(m, _)| *m == (recip, sqrt)) {
-            Some(i) => i,
-            None => {
-                self.0
-                    .push(((recip, sqrt), PixelProcessor::new(recip, sqrt)?));
-                self.0.len() - 1
-            }
-        };
-        Ok(&mut self.0[i].1)
-    }
+/// The model of `pair` in `models`, built by `make` if missing.
+fn model_of<M>(
+    models: &mut Vec<((Method, Method), M)>,
+    pair: (Method, Method),
+    make: impl FnOnce() -> Result<M, PpError>,
+) -> Result<&mut M, PpError> {
+    let i = match models.iter().position(|(m, _)| *m == pair) {
+        Some(i) => i,
+        None => {
+            models.push((pair, make()?));
+            models.len() - 1
+        }
+    };
+    Ok(&mut models[i].1)
 }
 
 /// Loads, co-simulates and checks one generated scene.
-fn run_scene(models: &mut Models, g: Generated, options: &CosimOptions) -> SceneOutcome {
+fn run_scene(
+    models: &mut Models,
+    g: Generated,
+    options: &CosimOptions,
+    processor: ProcessorKind,
+) -> SceneOutcome {
     let scene = match Scene::from_toml(&g.toml, &format!("fuzz scene {}", g.index)) {
         Ok(s) => s,
         Err(e) => {
@@ -169,7 +183,7 @@ fn run_scene(models: &mut Models, g: Generated, options: &CosimOptions) -> Scene
             }
         }
     };
-    let fate = match check(models, &scene, options) {
+    let fate = match check(models, &scene, options, processor) {
         Ok(r) => Fate::Ran(Box::new(r)),
         Err(e) => Fate::Error(e.to_string()),
     };
@@ -192,11 +206,16 @@ fn field_kind(field: &str) -> String {
     out
 }
 
-fn check(models: &mut Models, scene: &Scene, options: &CosimOptions) -> Result<Ran, CosimError> {
-    let rtl = models.get(scene.render.recip, scene.render.sqrt)?;
+fn check(
+    models: &mut Models,
+    scene: &Scene,
+    options: &CosimOptions,
+    processor: ProcessorKind,
+) -> Result<Ran, CosimError> {
+    let pair = (scene.render.recip, scene.render.sqrt);
     let mut max_error = 0.0f64;
     let mut nonfinite = 0;
-    let report = cosim::run_on(rtl, scene, Window::full(scene), options, &mut |v| {
+    let mut each = |v: &crate::compare::PixelVerdict| {
         let micro = v.b.rgb.map(|bits| f64::from(f32::from_bits(bits)));
         let reference = golden::reference::render_pixel(scene, v.x, v.y);
         for ch in 0..3 {
@@ -206,7 +225,33 @@ fn check(models: &mut Models, scene: &Scene, options: &CosimOptions) -> Result<R
                 max_error = max_error.max((micro[ch] - reference[ch]).abs() * 255.0);
             }
         }
-    })?;
+    };
+    let window = Window::full(scene);
+    let report = match processor {
+        ProcessorKind::Compact => {
+            let rtl = model_of(&mut models.compact, pair, || {
+                PixelProcessor::new(pair.0, pair.1)
+            })?;
+            cosim::run_on(rtl, scene, window, options, &mut each)?
+        }
+        ProcessorKind::Fast => {
+            let top = TopOptions::fast();
+            let rtl = model_of(&mut models.fast, pair, || top.build_for(scene, options))?;
+            cosim::run_top_on(rtl, scene, window, options, &top, &mut each)?
+        }
+    };
+    if !report.passed() && report.compare.passed() {
+        return Err(CosimError::Rtl(PpError::Model {
+            pixel: None,
+            message: format!(
+                "every pixel agreed, but the frame's cycles are not the barrel rule's: {}",
+                report.top.map_or(String::new(), |t| format!(
+                    "{} against {:?}",
+                    t.stats.frame_cycles, t.predicted_frame_cycles
+                ))
+            ),
+        }));
+    }
     Ok(Ran {
         compare: report.compare,
         max_error,
@@ -243,7 +288,12 @@ pub fn run_indices(
     let outcomes: Vec<SceneOutcome> = indices
         .par_iter()
         .map_init(Models::default, |models, &index| {
-            let outcome = run_scene(models, generate::scene(options.seed, index), &cosim_options);
+            let outcome = run_scene(
+                models,
+                generate::scene(options.seed, index),
+                &cosim_options,
+                options.processor,
+            );
             if matches!(outcome.fate, Fate::Error(_)) {
                 // A model that failed mid-pixel is not used again.
                 *models = Models::default();

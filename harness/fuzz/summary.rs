@@ -30,6 +30,14 @@ pub struct Campaign {
     pub failures: String,
     /// The Verilator that built the RTL.
     pub verilator: String,
+    /// The pixel processor (`compact` or `fast`); shard files from before
+    /// the fast processor name none: the compact one.
+    #[serde(default = "compact")]
+    pub processor: String,
+}
+
+fn compact() -> String {
+    crate::processor::ProcessorKind::Compact.name().to_string()
 }
 
 impl Campaign {
