@@ -336,6 +336,11 @@ pub(crate) mod ffi {
         /// A frame from the raster generator over an inclusive window.
         fn start_raster(self: Pin<&mut TopSim>, x0: u16, y0: u16, x1: u16, y1: u16) -> Result<()>;
 
+        /// The fast processor: the last frame's cycles, from its first
+        /// take, in which a take had to be refused (2K pixels held, by the
+        /// handshakes seen); nothing for the top.
+        fn refused_takes(self: &TopSim, out: &mut Vec<u64>);
+
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a
         /// watchdog trips; appends to `results` and `events`. Fails on a

@@ -368,6 +368,17 @@ impl Top {
         Ok(stats)
     }
 
+    /// The fast processor: the cycles of the last frame, counted from its
+    /// first take, in which it held 2K pixels (taken, results not yet out:
+    /// counted from the stream handshakes, not read from the RTL), so that
+    /// the barrel rule refuses a take there (`golden::micro::barrel::
+    /// run_gated`). Empty for the top, and without backpressure.
+    pub fn refused_takes(&self) -> Vec<u64> {
+        let mut out = Vec::new();
+        self.inner.refused_takes(&mut out);
+        out
+    }
+
     /// Splits this batch's events by processor and hands every result to
     /// `each` with its pixel's events.
     fn deliver(

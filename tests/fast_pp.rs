@@ -197,3 +197,60 @@ fn every_builtin_scene_agrees_on_the_fast_processor() {
         assert!(r.passed(), "{name}\n{r}");
     }
 }
+
+/// Backpressure: the result stream held back in 99% of the cycles fills
+/// the result queue, so the processor refuses takes (2K pixels held); every
+/// pixel is still exact, and its cycles are the barrel rule's with those
+/// takes refused (`run_gated`), which differ from the rule's without
+/// refusals: the check sees the refusals.
+#[test]
+fn fast_processor_is_exact_under_backpressure() {
+    let scene = builtin("overexposed", 40, 30);
+    let g = Processor::new(&scene);
+    let coords = window(0, 0, 40, 8);
+    let mut t =
+        Top::new_fast(scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
+    t.load_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
+    t.set_backpressure(7, 99);
+    let mut bad = Vec::new();
+    let mut cycles = Vec::new();
+    t.run_frame(Source::Stream(&coords), &mut |p| {
+        let mut events = Vec::new();
+        let r = g.render_pixel(p.x, p.y, |e, _| events.push(*e));
+        if let Some(d) = pixel_diff(p.events, &events) {
+            bad.push(format!("({}, {}): {d}", p.x, p.y));
+        }
+        if p.outcome.rgb != r.rgb.map(f32::to_bits) {
+            bad.push(format!("({}, {}): colour", p.x, p.y));
+        }
+        cycles.push(((p.x, p.y), p.outcome.cycles));
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_exact(&bad);
+    let refused = t.refused_takes();
+    assert!(!refused.is_empty(), "the result queue never filled");
+    let work: Vec<PixelWork> = coords
+        .iter()
+        .map(|&(x, y)| PixelWork::of(&g.render_pixel(x, y, |_, _| {})))
+        .collect();
+    let gated = barrel::run_gated(FAST_CONTEXTS, &work, &|c| {
+        refused.binary_search(&c).is_err()
+    });
+    let open = barrel::run(FAST_CONTEXTS, &work);
+    let predicted = |run: &barrel::BarrelRun, at: (u32, u32)| {
+        run.pixels[coords.iter().position(|&c| c == at).expect("fed")].cycles()
+    };
+    let wrong: Vec<_> = cycles
+        .iter()
+        .filter(|&&(at, c)| c != predicted(&gated, at))
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "{} pixels' cycles differ from the gated rule: {wrong:?}",
+        wrong.len()
+    );
+    assert!(
+        cycles.iter().any(|&(at, c)| c != predicted(&open, at)),
+        "the refusals changed no pixel's cycles: the check would not see them"
+    );
+}

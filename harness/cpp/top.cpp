@@ -174,7 +174,11 @@ public:
                 ++next_;
                 quiet_ = 0;
             }
+            if constexpr (Fast) {
+                if (held_ >= 2 * N) refused_.push_back(cycle_);
+            }
             if (m.out_valid && m.out_ready) {
+                if constexpr (Fast) --held_;
                 TopResult res{};
                 if constexpr (Fast) res.proc = static_cast<std::uint8_t>(m.out_ctx);
                 else res.proc = static_cast<std::uint8_t>(m.out_proc);
@@ -218,6 +222,10 @@ public:
         return r;
     }
 
+    void refused_takes(rust::Vec<std::uint64_t>& out) const override {
+        for (const std::uint64_t c : refused_) out.push_back(c - first_take_);
+    }
+
 private:
     static constexpr std::uint8_t NONE = 0xFF;
 
@@ -239,6 +247,9 @@ private:
         }
         taken_ = 0;
         takes_ = 0;
+        held_ = 0;
+        first_take_ = 0;
+        refused_.clear();
         quiet_ = 0;
         first_in_ = last_out_ = cycle_;
     }
@@ -260,7 +271,9 @@ private:
             const std::uint32_t c = takes_ < coords_.size() ? coords_[takes_] : 0;
             p.x = static_cast<std::uint16_t>(c & 0xFFFF);
             p.y = static_cast<std::uint16_t>(c >> 16);
+            if (takes_ == 0) first_take_ = cycle_;
             ++takes_;
+            ++held_;
             ++started_[turn];
         }
         if (!m.trace_valid) return;
@@ -364,6 +377,9 @@ private:
     Proc proc_[N];
     std::uint32_t started_[N] = {};  // pixels each processor has started since reset
     std::size_t takes_ = 0;          // Fast: coordinates taken this frame
+    std::uint64_t held_ = 0;         // Fast: taken, result not yet out
+    std::uint64_t first_take_ = 0;   // Fast: the cycle of the frame's first take
+    std::vector<std::uint64_t> refused_;  // Fast: cycles with 2N held
 };
 
 }  // namespace

@@ -43,6 +43,11 @@ public:
     // watchdog trips; appends to `results` and `events`.
     virtual TopRun run(rust::Vec<TopResult>& results, rust::Vec<TopEvent>& events, std::uint64_t max_results,
                        std::uint64_t max_events, std::uint64_t max_cycles) = 0;
+    // The fast processor: the cycles of the last frame, counted from its
+    // first take, in which 2K pixels were held (taken, and their results
+    // not yet out), so that a take had to be refused; counted here from
+    // the handshakes seen, not read from the model. Empty for the top.
+    virtual void refused_takes(rust::Vec<std::uint64_t>& out) const = 0;
 };
 
 // Builds and resets the top verilated with `procs` processors and these

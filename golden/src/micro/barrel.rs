@@ -25,6 +25,12 @@
 //! that took it to its done turn inclusive (as the compact rule counts from
 //! the cycle after its start edge to PIX_DONE inclusive).
 //!
+//! A processor whose results wait in a queue of bounded room may refuse a
+//! take (`rtl/fast/fast_pp.v` takes a pixel only while fewer than 2K are
+//! held); [`run_gated`] is the rule with the cycles in which takes are
+//! refused given: the context then stays idle (a done turn still ends its
+//! pixel). [`run`] refuses none.
+//!
 //! K must cover the round trip of a turn (register read, ALU, next-state
 //! decision) for the rule to need no stall; that is the RTL's business, and
 //! the rule does not depend on it.
@@ -101,7 +107,16 @@ enum Context {
 ///
 /// Panics if `contexts` is 0.
 pub fn run(contexts: u32, pixels: &[PixelWork]) -> BarrelRun {
+    run_gated(contexts, pixels, &|_| true)
+}
+
+/// [`run`], with a take allowed only in the cycles `t` where `open(t)`.
+///
+/// Panics if `contexts` is 0, or if `open` stays false for 2^32 cycles in a
+/// row while a pixel waits.
+pub fn run_gated(contexts: u32, pixels: &[PixelWork], open: &dyn Fn(u64) -> bool) -> BarrelRun {
     assert!(contexts > 0, "a barrel of no contexts");
+    let mut closed_run = 0u64;
     let k = contexts as usize;
     let mut ctx = vec![Context::Idle; k];
     let mut out: Vec<Option<BarrelPixel>> = vec![None; pixels.len()];
@@ -112,6 +127,16 @@ pub fn run(contexts: u32, pixels: &[PixelWork]) -> BarrelRun {
     let mut t = 0u64;
     while finished < pixels.len() {
         let c = (t % k as u64) as usize;
+        let may_take = open(t);
+        closed_run = if may_take { 0 } else { closed_run + 1 };
+        assert!(closed_run < 1 << 32, "takes refused for 2^32 cycles");
+        let take = |t: u64, c: usize, waiting: &mut usize, out: &mut [Option<BarrelPixel>]| {
+            if may_take {
+                take(t, c, waiting, out)
+            } else {
+                Context::Idle
+            }
+        };
         ctx[c] = match ctx[c] {
             Context::Idle => take(t, c, &mut waiting, &mut out),
             Context::Running { pixel, next } if next < pixels[pixel].instructions => {
@@ -235,6 +260,36 @@ mod tests {
         assert_eq!(close.pixels[1].cycles(), 4 * 5);
         let apart = run(4, &[exp(3, 1), work(1), work(1), exp(3, 1)]);
         assert_eq!(apart.exp_waits, 0);
+    }
+
+    /// A refused take leaves the context idle until its next turn; a done
+    /// turn still ends its pixel.
+    #[test]
+    fn a_refused_take_waits_for_the_next_turn() {
+        // Two contexts, three pixels of 1 instruction. Without refusals:
+        // pixel 0 taken at 0 (context 0), pixel 1 at 1; context 0's done
+        // turn at 4 takes pixel 2. Refusing cycle 4: pixel 0 still ends at
+        // 4, pixel 2 waits for context 1's done turn at 5.
+        let open = run(2, &[work(1), work(1), work(1)]);
+        assert_eq!(
+            open.pixels[2],
+            BarrelPixel {
+                context: 0,
+                taken: 4,
+                done: 8
+            }
+        );
+        let gated = run_gated(2, &[work(1), work(1), work(1)], &|t| t != 4);
+        assert_eq!(gated.pixels[0].done, 4);
+        assert_eq!(
+            gated.pixels[2],
+            BarrelPixel {
+                context: 1,
+                taken: 5,
+                done: 9
+            }
+        );
+        assert_eq!(gated.cycles, 10);
     }
 
     #[test]
