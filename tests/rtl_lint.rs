@@ -106,6 +106,37 @@ fn fast_processor_parts_lint_clean() {
     }
 }
 
+/// The fast processor (rtl/fast/fast_pp.v with its controller): every
+/// method pair with and without exposure, with the trace port (as the
+/// harness verilates it) and without (as it is synthesized), and the
+/// stack depths at both ends.
+#[test]
+fn fast_processor_lints_clean() {
+    for recip in golden::fp::Method::ALL {
+        for sqrt in golden::fp::Method::ALL {
+            for exposure in [0, 1] {
+                let params = [
+                    format!("-GRECIP_METHOD={}", recip.code()),
+                    format!("-GSQRT_METHOD={}", sqrt.code()),
+                    format!("-GEXPOSURE={exposure}"),
+                ];
+                let mut params: Vec<&str> = params.iter().map(String::as_str).collect();
+                lint_tree(common::fast_tree(), Some("fast_pp"), &params);
+                params.push("-DPP_TRACE");
+                lint_tree(common::fast_tree(), Some("fast_pp"), &params);
+            }
+        }
+    }
+    for depth in [1, 8] {
+        let depth = format!("-GSTACK_DEPTH={depth}");
+        lint_tree(
+            common::fast_tree(),
+            Some("fast_pp"),
+            &[&depth, "-DPP_TRACE"],
+        );
+    }
+}
+
 /// The latencies in rtl/fast/fast_defs.vh are the ones golden promises
 /// (golden::fp::pipelined), which the units' test reads the units at.
 #[test]
@@ -142,6 +173,13 @@ fn fast_defs_latencies_match_golden() {
         "fast_fp_sqrt"
     );
     assert_eq!(defined("FAST_EXP_LATENCY"), p::EXP_LATENCY, "fast_fp_exp");
+    use golden::micro::alu::fast_latency;
+    assert_eq!(defined("FAST_ALU_LATENCY"), fast_latency(true), "fast_alu");
+    assert_eq!(
+        defined("FAST_ALU_LATENCY_NOEXP"),
+        fast_latency(false),
+        "fast_alu, EXPOSURE = 0"
+    );
 }
 
 #[test]
