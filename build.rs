@@ -134,6 +134,34 @@ const TOP_VARIANTS: &[(u32, &str, &str)] = &[(1, "exact", "exact"), (4, "exact",
 /// `N:recip:sqrt`, e.g. `RTCOSIM_TOPS=2,8,4:fast:fast`.
 const TOPS: &str = "RTCOSIM_TOPS";
 
+/// The variants of a fast-processor model `top` (`fast_alu`, `fast_pp`)
+/// that `table` lists: (class prefix, recip code, sqrt code, exposure).
+fn fast_variants(
+    methods: &[(String, u32)],
+    top: &str,
+    table: &[(&str, &str, bool)],
+) -> Result<Vec<(String, u32, u32, bool)>, String> {
+    table
+        .iter()
+        .map(|&(recip, sqrt, exposure)| {
+            let (Some(recip_code), Some(sqrt_code)) =
+                (method_code(methods, recip), method_code(methods, sqrt))
+            else {
+                return Err(format!(
+                    "the {top} variants name a method fp_defs.vh lacks: {recip}/{sqrt}"
+                ));
+            };
+            let suffix = if exposure { "" } else { "_noexp" };
+            Ok((
+                format!("V{top}_{recip}_{sqrt}{suffix}"),
+                recip_code,
+                sqrt_code,
+                exposure,
+            ))
+        })
+        .collect()
+}
+
 /// [`TOP_VARIANTS`] and what [`TOPS`] asks for, each once.
 fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<(u32, String, String)>, String> {
     let mut wanted: Vec<(u32, String, String)> = TOP_VARIANTS
@@ -496,106 +524,49 @@ fn run() -> Result<(), String> {
     )?;
 
     // The fast processor's ALU (rtl/fast/fast_alu.v with rtl/pp's opcode
-    // decoder), for harness::fast_alu: FAST_ALU_VARIANTS.
-    let mut alu_variants = Vec::new();
-    for &(recip, sqrt, exposure) in FAST_ALU_VARIANTS {
-        let (Some(recip_code), Some(sqrt_code)) =
-            (method_code(&methods, recip), method_code(&methods, sqrt))
-        else {
-            return Err(format!(
-                "FAST_ALU_VARIANTS names a method fp_defs.vh lacks: {recip}/{sqrt}"
-            ));
-        };
-        let suffix = if exposure { "" } else { "_noexp" };
-        alu_variants.push((
-            format!("Vfast_alu_{recip}_{sqrt}{suffix}"),
-            recip_code,
-            sqrt_code,
-            exposure,
-        ));
+    // decoder), for harness::fast_alu: FAST_ALU_VARIANTS; and the fast
+    // processor (rtl/fast/fast_pp.v) with its trace port, for
+    // harness::top's fast flavour: FAST_PP_VARIANTS.
+    let fast_includes = vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()];
+    for (top, table, defines, what) in [
+        ("fast_alu", FAST_ALU_VARIANTS, vec![], "ALU"),
+        ("fast_pp", FAST_PP_VARIANTS, vec!["PP_TRACE"], "processor"),
+    ] {
+        let variants = fast_variants(&methods, top, table)?;
+        models.extend(
+            variants
+                .iter()
+                .map(|(prefix, recip, sqrt, exposure)| Model {
+                    prefix: prefix.clone(),
+                    top,
+                    params: vec![
+                        ("RECIP_METHOD", *recip),
+                        ("SQRT_METHOD", *sqrt),
+                        ("EXPOSURE", u32::from(*exposure)),
+                    ],
+                    defines: defines.clone(),
+                    includes: fast_includes.clone(),
+                    sources: &fast_sources,
+                    flavour: Flavour::Plain,
+                }),
+        );
+        write_models(
+            &out.join(format!("rtcosim_{top}_models.h")),
+            &format!(
+                "the verilated fast {what} variants: X(class, recip code, sqrt code, exposure)"
+            ),
+            &format!("RTCOSIM_{}_MODELS", top.to_uppercase()),
+            &variants
+                .iter()
+                .map(|(prefix, recip, sqrt, exposure)| {
+                    (
+                        prefix.clone(),
+                        format!("{recip}, {sqrt}, {}", u8::from(*exposure)),
+                    )
+                })
+                .collect::<Vec<_>>(),
+        )?;
     }
-    models.extend(
-        alu_variants
-            .iter()
-            .map(|(prefix, recip, sqrt, exposure)| Model {
-                prefix: prefix.clone(),
-                top: "fast_alu",
-                params: vec![
-                    ("RECIP_METHOD", *recip),
-                    ("SQRT_METHOD", *sqrt),
-                    ("EXPOSURE", u32::from(*exposure)),
-                ],
-                defines: vec![],
-                includes: vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()],
-                sources: &fast_sources,
-                flavour: Flavour::Plain,
-            }),
-    );
-    write_models(
-        &out.join("rtcosim_fast_alu_models.h"),
-        "the verilated fast ALU variants: X(class, recip code, sqrt code, exposure)",
-        "RTCOSIM_FAST_ALU_MODELS",
-        &alu_variants
-            .iter()
-            .map(|(prefix, recip, sqrt, exposure)| {
-                (
-                    prefix.clone(),
-                    format!("{recip}, {sqrt}, {}", u8::from(*exposure)),
-                )
-            })
-            .collect::<Vec<_>>(),
-    )?;
-
-    // The fast processor (rtl/fast/fast_pp.v), for harness::top's fast
-    // flavour: FAST_PP_VARIANTS.
-    let mut fast_pp_variants = Vec::new();
-    for &(recip, sqrt, exposure) in FAST_PP_VARIANTS {
-        let (Some(recip_code), Some(sqrt_code)) =
-            (method_code(&methods, recip), method_code(&methods, sqrt))
-        else {
-            return Err(format!(
-                "FAST_PP_VARIANTS names a method fp_defs.vh lacks: {recip}/{sqrt}"
-            ));
-        };
-        let suffix = if exposure { "" } else { "_noexp" };
-        fast_pp_variants.push((
-            format!("Vfast_pp_{recip}_{sqrt}{suffix}"),
-            recip_code,
-            sqrt_code,
-            exposure,
-        ));
-    }
-    models.extend(
-        fast_pp_variants
-            .iter()
-            .map(|(prefix, recip, sqrt, exposure)| Model {
-                prefix: prefix.clone(),
-                top: "fast_pp",
-                params: vec![
-                    ("RECIP_METHOD", *recip),
-                    ("SQRT_METHOD", *sqrt),
-                    ("EXPOSURE", u32::from(*exposure)),
-                ],
-                defines: vec!["PP_TRACE"],
-                includes: vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()],
-                sources: &fast_sources,
-                flavour: Flavour::Plain,
-            }),
-    );
-    write_models(
-        &out.join("rtcosim_fast_pp_models.h"),
-        "the verilated fast processor variants: X(class, recip code, sqrt code, exposure)",
-        "RTCOSIM_FAST_PP_MODELS",
-        &fast_pp_variants
-            .iter()
-            .map(|(prefix, recip, sqrt, exposure)| {
-                (
-                    prefix.clone(),
-                    format!("{recip}, {sqrt}, {}", u8::from(*exposure)),
-                )
-            })
-            .collect::<Vec<_>>(),
-    )?;
 
     let results: Vec<Result<Vec<CppFile>, String>> = std::thread::scope(|s| {
         let handles: Vec<_> = models

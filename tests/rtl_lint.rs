@@ -83,22 +83,31 @@ fn pipelined_units_lint_clean() {
     }
 }
 
+/// The parameters of every build of the fast processor's ALU: each
+/// method pair, with and without exposure.
+fn fast_builds() -> Vec<[String; 3]> {
+    let mut builds = Vec::new();
+    for recip in golden::fp::Method::ALL {
+        for sqrt in golden::fp::Method::ALL {
+            for exposure in [0, 1] {
+                builds.push([
+                    format!("-GRECIP_METHOD={}", recip.code()),
+                    format!("-GSQRT_METHOD={}", sqrt.code()),
+                    format!("-GEXPOSURE={exposure}"),
+                ]);
+            }
+        }
+    }
+    builds
+}
+
 /// The fast processor's parts built so far: the ALU in every method pair,
 /// with and without exposure, and the register file at every stack depth.
 #[test]
 fn fast_processor_parts_lint_clean() {
-    for recip in golden::fp::Method::ALL {
-        for sqrt in golden::fp::Method::ALL {
-            for exposure in [0, 1] {
-                let params = [
-                    format!("-GRECIP_METHOD={}", recip.code()),
-                    format!("-GSQRT_METHOD={}", sqrt.code()),
-                    format!("-GEXPOSURE={exposure}"),
-                ];
-                let params: Vec<&str> = params.iter().map(String::as_str).collect();
-                lint_tree(common::fast_tree(), Some("fast_alu"), &params);
-            }
-        }
+    for params in fast_builds() {
+        let params: Vec<&str> = params.iter().map(String::as_str).collect();
+        lint_tree(common::fast_tree(), Some("fast_alu"), &params);
     }
     for depth in 1..=8 {
         let depth = format!("-GSTACK_DEPTH={depth}");
@@ -112,20 +121,11 @@ fn fast_processor_parts_lint_clean() {
 /// stack depths at both ends.
 #[test]
 fn fast_processor_lints_clean() {
-    for recip in golden::fp::Method::ALL {
-        for sqrt in golden::fp::Method::ALL {
-            for exposure in [0, 1] {
-                let params = [
-                    format!("-GRECIP_METHOD={}", recip.code()),
-                    format!("-GSQRT_METHOD={}", sqrt.code()),
-                    format!("-GEXPOSURE={exposure}"),
-                ];
-                let mut params: Vec<&str> = params.iter().map(String::as_str).collect();
-                lint_tree(common::fast_tree(), Some("fast_pp"), &params);
-                params.push("-DPP_TRACE");
-                lint_tree(common::fast_tree(), Some("fast_pp"), &params);
-            }
-        }
+    for params in fast_builds() {
+        let mut params: Vec<&str> = params.iter().map(String::as_str).collect();
+        lint_tree(common::fast_tree(), Some("fast_pp"), &params);
+        params.push("-DPP_TRACE");
+        lint_tree(common::fast_tree(), Some("fast_pp"), &params);
     }
     for depth in [1, 8] {
         let depth = format!("-GSTACK_DEPTH={depth}");
