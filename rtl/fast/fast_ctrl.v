@@ -104,7 +104,7 @@ module fast_ctrl #(
 
     // Positions of the ring (see the header).
     localparam integer POS_C1 = LATENCY + 2;
-    localparam integer CARRY1 = POS_C1 - 6;          // positions 7 .. LAT+2
+    localparam integer CARRY1 = POS_C1 - 8;          // positions 9 .. LAT+2
     localparam integer CARRY2 = K - (LATENCY + 4);   // positions LAT+4 .. K-1
 
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
@@ -172,6 +172,7 @@ module fast_ctrl #(
     // takes the same for the fields it resets; the rest are written before
     // they are read).
     localparam [SW-1:0]  ST_PRI_ITOF = `ISA_ST_PRI_ITOF;
+    localparam [SW-1:0]  ST_SH_POINT = `ISA_ST_SH_POINT;
     localparam [SWD-1:0] S_TAKEN   = {{(SWD - JW){1'b0}}, ST_PRI_ITOF, {(JW - SW){1'b0}}};
     localparam [SWD-1:0] S_IDLE    = {SWD{1'b0}};  // st = IDLE = 0
 
@@ -205,83 +206,94 @@ module fast_ctrl #(
         bits = kind == K_SPH ? sph[MB*idx +: MB] : pln[MB*idx +: MB];
     endfunction
 
-    // {found, k}: the first sphere k >= from, k < n, not the skipped one.
-    function [OW:0] spheres_other_than(input [OW:0] from, input [NSW-1:0] n, input skip,
-                                        input [OW-1:0] skip_k);
+    // Bit k set for every object k > i: the loops' next candidates (a
+    // thermometer: each bit a function of i, no comparator).
+    function [OBJ_N-1:0] above(input [OW-1:0] i);
+        above = ({OBJ_N{1'b1}} << i) << 1;
+    endfunction
+
+    // Bit k set for k = i (the excluded object), if skip.
+    function [OBJ_N-1:0] skipped(input skip, input [OW-1:0] i);
+        skipped = skip ? {{(OBJ_N - 1){1'b0}}, 1'b1} << i : {OBJ_N{1'b0}};
+    endfunction
+
+    // {found, k}: the lowest set bit.
+    function [OW:0] first_of(input [OBJ_N-1:0] m);
         integer k;
         begin
-            spheres_other_than = {(OW + 1){1'b0}};
-            for (k = SPH_N - 1; k >= 0; k = k - 1)
-                if (k >= from && k < n && !(skip && skip_k == k[OW-1:0]))
-                    spheres_other_than = {1'b1, k[OW-1:0]};
+            first_of = {(OW + 1){1'b0}};
+            for (k = OBJ_N - 1; k >= 0; k = k - 1)
+                if (m[k]) first_of = {1'b1, k[OW-1:0]};
         end
     endfunction
 
-    // Which planes j >= from a search may test: j < n, not the skipped one.
-    function [PLN_N-1:0] planes_open(input [OW:0] from, input [NPW-1:0] n, input skip,
-                                     input [OW-1:0] skip_j);
-        integer j;
-        begin
-            for (j = 0; j < PLN_N; j = j + 1)
-                planes_open[j] = (j >= from) && (j < n) && !(skip && skip_j == j[OW-1:0]);
-        end
+    // Planes as objects (the high object bits 0).
+    function [OBJ_N-1:0] pln_pad(input [PLN_N-1:0] m);
+        pln_pad = {{(OBJ_N - PLN_N){1'b0}}, m};
+    endfunction
+
+    // The direction flag the fast plane test reads for a plane (against =
+    // neg ? dpos : dneg, bit axis), as an index into {dpos, dneg}; 7 (no
+    // flag: the test refuses) for an axis past z, which no scene has.
+    function [2:0] flag_index(input neg, input [AB-1:0] axis);
+        if (axis > 2'd2)  flag_index = 3'd7;
+        else if (neg)     flag_index = {1'b0, axis} + 3'd3;
+        else              flag_index = {1'b0, axis};
     endfunction
 
     // Which planes the fast plane test passes for a direction with these
-    // flags (DirFlags::opposes: a normal facing -axis needs d.axis > 0);
-    // every plane without the test.
-    function [PLN_N-1:0] planes_facing(input fast_on, input [PLN_N*AB-1:0] axis,
-                                       input [PLN_N-1:0] neg, input [LN-1:0] dneg,
-                                       input [LN-1:0] dpos);
+    // flags (DirFlags::opposes); every plane without the test.
+    function [PLN_N-1:0] planes_facing(input fast_on, input [3*PLN_N-1:0] sel,
+                                       input [LN-1:0] dneg, input [LN-1:0] dpos);
         integer j;
-        reg [LN-1:0] against;
+        reg [7:0] f;
         begin
-            for (j = 0; j < PLN_N; j = j + 1) begin
-                against = neg[j] ? dpos : dneg;
-                planes_facing[j] = !fast_on || against[axis[AB*j +: AB]];
-            end
+            f = {2'b00, dpos, dneg};
+            for (j = 0; j < PLN_N; j = j + 1)
+                planes_facing[j] = !fast_on || f[sel[3*j +: 3]];
         end
     endfunction
 
-    // {found, j}: the lowest set bit.
-    function [OW:0] first_of(input [PLN_N-1:0] m);
-        integer j;
-        begin
-            first_of = {(OW + 1){1'b0}};
-            for (j = PLN_N - 1; j >= 0; j = j - 1)
-                if (m[j]) first_of = {1'b1, j[OW-1:0]};
-        end
+    // Stack levels: the bit of level l; levels 0..l; the level below l.
+    function [STK_N-1:0] level_bit(input [SPW-1:0] l);
+        level_bit = {{(STK_N - 1){1'b0}}, 1'b1} << l;
+    endfunction
+    function [STK_N-1:0] at_or_below(input [SPW-1:0] l);
+        at_or_below = ~(({STK_N{1'b1}} << l) << 1);
+    endfunction
+    function [SPW-1:0] below_level(input [SPW-1:0] l);
+        below_level = l - 1'b1;
     endfunction
 
-    function cut_first(input on, input [MB-1:0] b, input room);
-        cut_first = on && b[MAT_REFLECTIVE] && room;
-    endfunction
-
-    // unwind (pp_ctrl): {st, sp}.
-    function [SW+SPW-1:0] unwind(input [SPW-1:0] from, input [STK_N-1:0] col, input [SW-1:0] last);
-        integer   l;
-        reg       found;
-        reg [SPW-1:0] lvl;
+    // unwind (pp_ctrl), in three steps. m: the coloured levels at or below
+    // `from`. The highest of levels 1.. in m, one-hot and as a number (0:
+    // none).
+    function [STK_N-1:0] highest(input [STK_N-1:0] m);
+        integer l;
         begin
-            found = 1'b0;
-            lvl   = {SPW{1'b0}};
+            highest = {STK_N{1'b0}};
             for (l = 1; l < STK_N; l = l + 1)
-                if (l[SPW-1:0] <= from && col[l]) begin
-                    found = 1'b1;
-                    lvl   = l[SPW-1:0];
-                end
-            unwind[0 +: SPW] = lvl;
-            if (found)
-                unwind[SPW +: SW] = col[lvl - 1'b1] ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
-            else
-                unwind[SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
+                if (m[l]) highest = {{(STK_N - 1){1'b0}}, 1'b1} << l;
         end
     endfunction
-
-    function [STK_N-1:0] with_level(input [STK_N-1:0] col, input [SPW-1:0] l);
+    function [SPW-1:0] highest_level(input [STK_N-1:0] m);
+        integer l;
         begin
-            with_level    = col;
-            with_level[l] = 1'b1;
+            highest_level = {SPW{1'b0}};
+            for (l = 1; l < STK_N; l = l + 1)
+                if (m[l]) highest_level = l[SPW-1:0];
+        end
+    endfunction
+    // Then {st, sp}: one POP per level down to 1 (POP_ADD where the level
+    // below has a colour), then `last`, or ROOT_BLACK if level 0 has none.
+    function [SW+SPW-1:0] unwound(input [STK_N-1:0] h, input [SPW-1:0] lvl, input [STK_N-1:0] col,
+                                  input [SW-1:0] last);
+        begin
+            unwound[0 +: SPW] = lvl;
+            if (|h)
+                unwound[SPW +: SW] = |(h & (col << 1)) ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
+            else
+                unwound[SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
         end
     endfunction
 
@@ -361,19 +373,36 @@ module fast_ctrl #(
         end
     endfunction
 
-    // Register addresses (golden::micro::isa::sphere, plane, corner, rot):
-    // functions, so that each argument keeps its own width.
+    // Register addresses (golden::micro::isa::sphere, plane, corner, rot),
+    // placed bit by bit, not added: a group's first register has its low
+    // two bits clear (sphere and plane fields are 0..3 past it, the
+    // stride 4), so object k's field is the field's address with k in
+    // bits 2 and up; a corner and a rotation register are tables of their
+    // 3-bit argument (static checks below).
     function [RW-1:0] sphere(input [OW-1:0] k, input [RW-1:0] field0);
-        sphere = field0 + k * `ISA_DIM_SPH_STRIDE;
+        sphere = field0 | {{(RW - OW - 2){1'b0}}, k, 2'b00};
     endfunction
     function [RW-1:0] plane(input [OW-1:0] j, input [RW-1:0] field0);
-        plane = field0 + j * `ISA_DIM_PLN_STRIDE;
+        plane = field0 | {{(RW - OW - 2){1'b0}}, j, 2'b00};
     endfunction
     function [RW-1:0] corner(input [LN-1:0] sgn);
-        corner = `ISA_REG_BOX0 + sgn * `ISA_DIM_BOX_STRIDE;
+        case (sgn)
+            3'd0: corner = `ISA_REG_BOX0 + 0 * `ISA_DIM_BOX_STRIDE;
+            3'd1: corner = `ISA_REG_BOX0 + 1 * `ISA_DIM_BOX_STRIDE;
+            3'd2: corner = `ISA_REG_BOX0 + 2 * `ISA_DIM_BOX_STRIDE;
+            3'd3: corner = `ISA_REG_BOX0 + 3 * `ISA_DIM_BOX_STRIDE;
+            3'd4: corner = `ISA_REG_BOX0 + 4 * `ISA_DIM_BOX_STRIDE;
+            3'd5: corner = `ISA_REG_BOX0 + 5 * `ISA_DIM_BOX_STRIDE;
+            3'd6: corner = `ISA_REG_BOX0 + 6 * `ISA_DIM_BOX_STRIDE;
+            default: corner = `ISA_REG_BOX0 + 7 * `ISA_DIM_BOX_STRIDE;
+        endcase
     endfunction
     function [RW-1:0] rot_reg(input [RAW-1:0] axis, input [RW-1:0] field0);
-        rot_reg = field0 + axis * `ISA_DIM_ROT_STRIDE;
+        case (axis)
+            2'd0:    rot_reg = field0 + 0 * `ISA_DIM_ROT_STRIDE;
+            2'd1:    rot_reg = field0 + 1 * `ISA_DIM_ROT_STRIDE;
+            default: rot_reg = field0 + 2 * `ISA_DIM_ROT_STRIDE;
+        endcase
     endfunction
 
     // The micro-op of state s (pp_ctrl's instruction of each state), with
@@ -605,6 +634,26 @@ module fast_ctrl #(
     end
 
     // ------------------------------------------------------------------------
+    // Scene constants, registered from the configuration word (it changes
+    // only while every context is idle, at least two cycles before a take's
+    // first precompute)
+    // ------------------------------------------------------------------------
+    reg [SPH_N-1:0]    sph_lt_n_q;  // k < n_sph
+    reg [PLN_N-1:0]    pln_lt_n_q;  // j < n_pln
+    reg [STK_N-1:0]    room_at_q;   // l + 1 < max_depth: a level above l exists
+    reg [3*PLN_N-1:0]  pln_sel_q;   // the direction flag each plane's fast test reads
+    integer kc;
+    always @(posedge clk) begin
+        for (kc = 0; kc < SPH_N; kc = kc + 1) sph_lt_n_q[kc] <= (kc < n_sph);
+        for (kc = 0; kc < PLN_N; kc = kc + 1) begin
+            pln_lt_n_q[kc] <= (kc < n_pln);
+            // DirFlags::opposes: a normal facing -axis needs d.axis > 0.
+            pln_sel_q[3*kc +: 3] <= flag_index(pln_neg[kc], pln_axis[AB*kc +: AB]);
+        end
+        for (kc = 0; kc < STK_N; kc = kc + 1) room_at_q[kc] <= (kc + 1 < max_depth);
+    end
+
+    // ------------------------------------------------------------------------
     // Position 1: the state after the turn; hold: the next turn repeats it
     // ------------------------------------------------------------------------
     reg [SWD-1:0] s1;
@@ -617,142 +666,211 @@ module fast_ctrl #(
     end
 
     // ------------------------------------------------------------------------
-    // P1: searches and priorities (registers and scene constants only)
+    // P1a: masks, tables, material bits (registers and scene constants only)
     // ------------------------------------------------------------------------
-    wire [SPW-1:0] sp1   = s1[J_SP +: SPW];
-    wire [OW-1:0]  idx1  = s1[J_IDX +: OW];
-    wire           okind1 = s1[S_OKIND];
-    wire [OW-1:0]  oidx1 = s1[S_OIDX +: OW];
-    wire           skip_sph1 = s1[S_EXCL] && okind1 == K_SPH;
-    wire           skip_pln1 = s1[S_EXCL] && okind1 == K_PLN;
-    wire [OW:0]    idx_up1 = {1'b0, idx1} + 1'b1;
-    wire           room1   = ({1'b0, sp1} + 1'b1 < max_depth);
-    wire [MB-1:0]  best_bits1 = bits(s1[S_BKIND], s1[S_BIDX +: OW], sph_bits, pln_bits);
-    wire [MB-1:0]  this_bits1 = bits(s1[J_KIND], idx1, sph_bits, pln_bits);
-    wire [PLN_N-1:0] facing1  = planes_facing(fast, pln_axis, pln_neg, s1[S_DNEG +: LN], s1[S_DPOS +: LN]);
-    wire [SPW-1:0] sp_dn1  = sp1 - 1'b1;
+    wire [SPW-1:0]   sp1    = s1[J_SP +: SPW];
+    wire             okind1 = s1[S_OKIND];
+    wire [OW-1:0]    oidx1  = s1[S_OIDX +: OW];
+    wire [STK_N-1:0] col1   = s1[S_COL +: STK_N];
+    wire [OBJ_N-1:0] gt1    = above(s1[J_IDX +: OW]);
+    wire [STK_N-1:0] col_mov1    = col1 | level_bit(below_level(sp1));
+    wire [STK_N-1:0] col_colour1 = col1 | level_bit(sp1);
+    wire [OBJ_N-1:0] pln_skip1   = skipped(s1[S_EXCL] && okind1 == K_PLN, oidx1);
+    wire [PLN_N-1:0] pln_base1   = pln_lt_n_q & ~pln_skip1[PLN_N-1:0];
+    wire             unused_pln_skip1 = ^pln_skip1[OBJ_N-1:PLN_N];
+    wire [SPH_N-1:0] sph_base1   = sph_lt_n_q & ~skipped(s1[S_EXCL] && okind1 == K_SPH, oidx1);
+    wire [PLN_N-1:0] facing1     = planes_facing(fast, pln_sel_q, s1[S_DNEG +: LN], s1[S_DPOS +: LN]);
 
     reg [SWD-1:0]    s2;
     reg              h2;
-    reg [MB-1:0]     obj_bits2;
-    reg [OW:0]       sph_first2, sph_next2, pln_first2, pln_next2;
-    reg [PLN_N-1:0]  pln_open2;     // NORM_SCALE: planes the search may test, before the fast test
-    reg              cut_best2, cut_this2, run_push2;
-    reg [SW+SPW-1:0] unwind_now2, unwind_pop_add2, unwind_pop_mov2, unwind_colour2;
+    reg [SPH_N-1:0]  sph_open_first2, sph_open_next2;
+    reg [PLN_N-1:0]  pln_open_first2, pln_open_next2, pln_base2;
+    reg [MB-1:0]     obj_bits2, best_bits2, this_bits2;
+    reg              room2;
+    reg [SPW-1:0]    sp_inc2;
+    // The four unwindings: now (sp, col), POP_ADD (sp - 1, col), POP_MOV
+    // (sp - 1, col with level sp - 1), SH_COLOUR without a push (sp, col
+    // with level sp): the coloured levels at or below `from`, and col.
+    reg [STK_N-1:0]  uw_m_now2, uw_m_add2, uw_m_mov2, uw_m_col2;
+    reg [STK_N-1:0]  uw_c_now2, uw_c_add2, uw_c_mov2, uw_c_col2;
+    reg [STK_N-1:0]  col_shade2;   // SH_COLOUR: col with the shaded level's bit
+    reg [STK_N-1:0]  col_mov2;     // POP_MOV: col with level sp - 1
     reg [RAW+SW+CALLW-1:0] prn_first2, prn_after2;
     always @(posedge clk) begin
-        s2          <= s1;
-        h2          <= h1;
-        obj_bits2   <= bits(okind1, oidx1, sph_bits, pln_bits);
-        sph_first2  <= spheres_other_than({(OW + 1){1'b0}}, n_sph, skip_sph1, oidx1);
-        sph_next2   <= spheres_other_than(idx_up1, n_sph, skip_sph1, oidx1);
-        pln_first2  <= first_of(planes_open({(OW + 1){1'b0}}, n_pln, skip_pln1, oidx1) & facing1);
-        pln_next2   <= first_of(planes_open(idx_up1, n_pln, skip_pln1, oidx1) & facing1);
-        pln_open2   <= planes_open({(OW + 1){1'b0}}, n_pln, skip_pln1, oidx1);
-        cut_best2   <= cut_first(cutoff, best_bits1, room1);
-        cut_this2   <= cut_first(cutoff, this_bits1, room1);
-        run_push2   <= best_bits1[MAT_REFLECTIVE] && room1 && !(cutoff && s1[S_CUT]);
-        unwind_now2     <= unwind(sp1, s1[S_COL +: STK_N], pixel_end);
-        unwind_pop_add2 <= unwind(sp_dn1, s1[S_COL +: STK_N], pixel_end);
-        unwind_pop_mov2 <= unwind(sp_dn1, with_level(s1[S_COL +: STK_N], sp_dn1), pixel_end);
-        unwind_colour2  <= unwind(sp1, with_level(s1[S_COL +: STK_N], sp1), pixel_end);
-        prn_first2  <= primary_ray_next(rotate, {(RAW + 1){1'b0}}, s1[S_ROT +: RAW], s1[J_CALL +: CALLW]);
-        prn_after2  <= primary_ray_next(rotate, {1'b0, s1[S_ROT +: RAW]} + 1'b1, s1[S_ROT +: RAW],
-                                        s1[J_CALL +: CALLW]);
+        s2              <= s1;
+        h2              <= h1;
+        sph_open_first2 <= sph_base1;
+        sph_open_next2  <= sph_base1 & gt1[SPH_N-1:0];
+        pln_open_first2 <= pln_base1 & facing1;
+        pln_open_next2  <= pln_base1 & facing1 & gt1[PLN_N-1:0];
+        pln_base2       <= pln_base1;
+        obj_bits2       <= bits(okind1, oidx1, sph_bits, pln_bits);
+        best_bits2      <= bits(s1[S_BKIND], s1[S_BIDX +: OW], sph_bits, pln_bits);
+        this_bits2      <= bits(s1[J_KIND], s1[J_IDX +: OW], sph_bits, pln_bits);
+        room2           <= room_at_q[sp1];
+        sp_inc2         <= sp1 + 1'b1;
+        uw_m_now2       <= col1 & at_or_below(sp1);
+        uw_m_add2       <= col1 & at_or_below(below_level(sp1));
+        uw_m_mov2       <= col_mov1 & at_or_below(below_level(sp1));
+        uw_m_col2       <= col_colour1 & at_or_below(sp1);
+        uw_c_now2       <= col1;
+        uw_c_add2       <= col1;
+        uw_c_mov2       <= col_mov1;
+        uw_c_col2       <= col_colour1;
+        col_shade2      <= s1[S_PUSH] ? col_mov1 : col_colour1;
+        col_mov2        <= col_mov1;
+        prn_first2      <= primary_ray_next(rotate, {(RAW + 1){1'b0}}, s1[S_ROT +: RAW], s1[J_CALL +: CALLW]);
+        prn_after2      <= primary_ray_next(rotate, {1'b0, s1[S_ROT +: RAW]} + 1'b1, s1[S_ROT +: RAW],
+                                            s1[J_CALL +: CALLW]);
     end
 
     // ------------------------------------------------------------------------
-    // P2: the jumps
+    // P1b: priorities
     // ------------------------------------------------------------------------
-    localparam [OW:0] NONE = {(OW + 1){1'b0}};
-    wire [JW-1:0] stay2      = s2[0 +: JW];
-    wire [JW-1:0] unwind_j2  = {unwind_now2, s2[J_CALL +: CALLW], s2[J_KIND], s2[J_IDX +: OW]};
-    wire          diff2      = s2[S_DIFF];
-    wire          spec2      = s2[S_SPEC];
-    wire          push2      = s2[S_PUSH];
-    wire          face2      = s2[S_FACE];
-    wire          ctx2       = s2[S_CTX];
-    wire          found2     = s2[S_FOUND];
-    wire          in_sph2    = (s2[J_KIND] == K_SPH);
-    wire [OW:0]   after_sph2 = in_sph2 ? sph_next2 : NONE;
-    wire [OW:0]   after_pln2 = in_sph2 ? pln_first2 : pln_next2;
-    wire [JW-1:0] shd_false2 = shade_next(S_DIFFUSE, 1'b1, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-
     reg [SWD-1:0]    s3;
     reg              h3;
+    reg [OW:0]       sph_first3, sph_next3, pln_first3, pln_next3;
+    reg [PLN_N-1:0]  pln_base3;
     reg [MB-1:0]     obj_bits3;
-    reg [OW:0]       sph_first3;
-    reg [PLN_N-1:0]  pln_open3;
-    reg [JW-1:0]     shd_false3, shd_true3, nh_start3, box_false3, nh_after3, nh_kept3, offer3;
-    reg [JW-1:0]     diffuse_lit3, diffuse_dark3, spec_none3, sh_diffuse3, sh_refl3, sh_spec3;
-    reg [JW-1:0]     unwind_j3;
-    reg [SW+SPW-1:0] unwind_pop_add3, unwind_pop_mov3, unwind_colour3;
-    reg              run_push3;
+    reg              cut_best3, cut_this3, run_push3;
+    reg [SPW-1:0]    sp_inc3;
+    reg [STK_N-1:0]  uw_h_now3, uw_h_add3, uw_h_mov3, uw_h_col3;   // the highest coloured level, one-hot
+    reg [SPW-1:0]    uw_l_now3, uw_l_add3, uw_l_mov3, uw_l_col3;   // ... and its number (0: none)
+    reg [STK_N-1:0]  uw_c_now3, uw_c_add3, uw_c_mov3, uw_c_col3;
+    reg [STK_N-1:0]  col_shade3, col_mov3;
     reg [RAW+SW+CALLW-1:0] prn_first3, prn_after3;
     always @(posedge clk) begin
-        s3            <= s2;
-        h3            <= h2;
-        obj_bits3     <= obj_bits2;
-        sph_first3    <= sph_first2;
-        pln_open3     <= pln_open2;
-        shd_false3    <= shd_false2;
-        shd_true3     <= shade_next(S_DIFFUSE, 1'b0, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-        nh_start3     <= nearest_hit_next(stay2, bbox, sph_first2, 1'b1, pln_first2, C_HIT,
-                                          1'b0, shortcut, cut_best2, shd_false2, unwind_j2);
-        box_false3    <= nearest_hit_next(stay2, 1'b0, NONE, 1'b1, pln_first2, ctx2,
-                                          found2, shortcut, cut_best2, shd_false2, unwind_j2);
-        nh_after3     <= nearest_hit_next(stay2, 1'b0, after_sph2, in_sph2, after_pln2, ctx2,
-                                          found2, shortcut, cut_best2, shd_false2, unwind_j2);
-        nh_kept3      <= nearest_hit_next(stay2, 1'b0, after_sph2, in_sph2, after_pln2, ctx2,
-                                          found2, shortcut, cut_this2, shd_false2, unwind_j2);
-        // offer: the first hit stays in the search; a later one is compared.
-        if (found2) begin
-            offer3             <= stay2;
-            offer3[J_ST +: SW] <= `ISA_ST_HIT_CMP;
-        end else
-            offer3 <= nearest_hit_next(stay2, 1'b0, after_sph2, in_sph2, after_pln2, ctx2,
-                                       1'b1, shortcut, cut_this2, shd_false2, unwind_j2);
-        diffuse_lit3  <= shade_next(S_REFLECT, 1'b1, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-        diffuse_dark3 <= shade_next(S_REFLECT, 1'b0, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-        spec_none3    <= shade_next(S_LOCAL, face2, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-        sh_diffuse3   <= shade_next(S_REFLECT, face2, 1'b1, spec2, obj_bits2, push2, stay2, unwind_j2);
-        sh_refl3      <= shade_next(S_SPECULAR, face2, diff2, spec2, obj_bits2, push2, stay2, unwind_j2);
-        sh_spec3      <= shade_next(S_LOCAL, face2, diff2, 1'b1, obj_bits2, push2, stay2, unwind_j2);
-        unwind_j3       <= unwind_j2;
-        unwind_pop_add3 <= unwind_pop_add2;
-        unwind_pop_mov3 <= unwind_pop_mov2;
-        unwind_colour3  <= unwind_colour2;
-        run_push3     <= run_push2;
-        prn_first3    <= prn_first2;
-        prn_after3    <= prn_after2;
+        s3         <= s2;
+        h3         <= h2;
+        sph_first3 <= first_of(sph_open_first2);
+        sph_next3  <= first_of(sph_open_next2);
+        pln_first3 <= first_of(pln_pad(pln_open_first2));
+        pln_next3  <= first_of(pln_pad(pln_open_next2));
+        pln_base3  <= pln_base2;
+        obj_bits3  <= obj_bits2;
+        cut_best3  <= cutoff && best_bits2[MAT_REFLECTIVE] && room2;
+        cut_this3  <= cutoff && this_bits2[MAT_REFLECTIVE] && room2;
+        run_push3  <= best_bits2[MAT_REFLECTIVE] && room2 && !(cutoff && s2[S_CUT]);
+        sp_inc3    <= sp_inc2;
+        uw_h_now3  <= highest(uw_m_now2);
+        uw_h_add3  <= highest(uw_m_add2);
+        uw_h_mov3  <= highest(uw_m_mov2);
+        uw_h_col3  <= highest(uw_m_col2);
+        uw_l_now3  <= highest_level(uw_m_now2);
+        uw_l_add3  <= highest_level(uw_m_add2);
+        uw_l_mov3  <= highest_level(uw_m_mov2);
+        uw_l_col3  <= highest_level(uw_m_col2);
+        uw_c_now3  <= uw_c_now2;
+        uw_c_add3  <= uw_c_add2;
+        uw_c_mov3  <= uw_c_mov2;
+        uw_c_col3  <= uw_c_col2;
+        col_shade3 <= col_shade2;
+        col_mov3   <= col_mov2;
+        prn_first3 <= prn_first2;
+        prn_after3 <= prn_after2;
     end
 
     // ------------------------------------------------------------------------
-    // P3: per state, the candidates A0 (cond = 0) and A1 (cond = 1), the
-    // condition's code and the latches
+    // P1c: the unwindings' states, the pushed stack pointer
     // ------------------------------------------------------------------------
-    reg [SWD-1:0]   a0, a1;
+    reg [SWD-1:0]    s4;
+    reg              h4;
+    reg [OW:0]       sph_first4, sph_next4, pln_first4, pln_next4;
+    reg [PLN_N-1:0]  pln_base4;
+    reg [MB-1:0]     obj_bits4;
+    reg              cut_best4, cut_this4, run_push4;
+    reg [SPW-1:0]    sp_offset4;
+    reg [SW+SPW-1:0] uw_now4, uw_add4, uw_mov4, uw_col4;
+    reg [STK_N-1:0]  col_shade4, col_mov4;
+    reg [RAW+SW+CALLW-1:0] prn_first4, prn_after4;
+    always @(posedge clk) begin
+        s4         <= s3;
+        h4         <= h3;
+        sph_first4 <= sph_first3;
+        sph_next4  <= sph_next3;
+        pln_first4 <= pln_first3;
+        pln_next4  <= pln_next3;
+        pln_base4  <= pln_base3;
+        obj_bits4  <= obj_bits3;
+        cut_best4  <= cut_best3;
+        cut_this4  <= cut_this3;
+        run_push4  <= run_push3;
+        sp_offset4 <= run_push3 ? sp_inc3 : s3[J_SP +: SPW];
+        uw_now4    <= unwound(uw_h_now3, uw_l_now3, uw_c_now3, pixel_end);
+        uw_add4    <= unwound(uw_h_add3, uw_l_add3, uw_c_add3, pixel_end);
+        uw_mov4    <= unwound(uw_h_mov3, uw_l_mov3, uw_c_mov3, pixel_end);
+        uw_col4    <= unwound(uw_h_col3, uw_l_col3, uw_c_col3, pixel_end);
+        col_shade4 <= col_shade3;
+        col_mov4   <= col_mov3;
+        prn_first4 <= prn_first3;
+        prn_after4 <= prn_after3;
+    end
+
+    // ------------------------------------------------------------------------
+    // P2: the jumps (pp_ctrl's), and per state which of them each candidate
+    // takes, the candidates' other fields, the condition's code, the latches
+    // ------------------------------------------------------------------------
+    localparam [OW:0] NONE = {(OW + 1){1'b0}};
+    wire [JW-1:0] stay4      = s4[0 +: JW];
+    wire [JW-1:0] unwind_j4  = {uw_now4, s4[J_CALL +: CALLW], s4[J_KIND], s4[J_IDX +: OW]};
+    wire          diff4      = s4[S_DIFF];
+    wire          spec4      = s4[S_SPEC];
+    wire          push4      = s4[S_PUSH];
+    wire          face4      = s4[S_FACE];
+    wire          ctx4       = s4[S_CTX];
+    wire          found4     = s4[S_FOUND];
+    wire          kind4      = s4[J_KIND];
+    wire [SW-1:0] st4        = s4[J_ST +: SW];
+    wire [CALLW-1:0] call4   = s4[J_CALL +: CALLW];
+    wire          in_sph4    = (kind4 == K_SPH);
+    wire [OW:0]   after_sph4 = in_sph4 ? sph_next4 : NONE;
+    wire [OW:0]   after_pln4 = in_sph4 ? pln_first4 : pln_next4;
+    wire [JW-1:0] shd_false4 = shade_next(S_DIFFUSE, 1'b1, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+    wire          prim4      = (call4 == D_PRIMARY);
+    wire [LN-1:0] dsign4     = s4[S_DSIGN +: LN];
+    wire [LN-1:0] same1_4    = ~(dsign4 ^ {dsign4[0], dsign4[LN-1:1]});
+    wire [LN-1:0] same2_4    = ~(dsign4 ^ {dsign4[1:0], dsign4[LN-1:2]});
+
+    // Where a candidate's jump comes from (P3 selects by it).
+    localparam integer JSW = 5;
+    localparam [JSW-1:0] J_NEXT      = 5'd0,   // stay, st = the code's fixed successor
+                         J_NH_AFTER  = 5'd1,
+                         J_BOX_FALSE = 5'd2,
+                         J_OFFER     = 5'd3,
+                         J_SHD_TRUE  = 5'd4,
+                         J_SHD_FALSE = 5'd5,
+                         J_NH_KEPT   = 5'd6,
+                         J_NH_START  = 5'd7,
+                         J_DIFF_LIT  = 5'd8,
+                         J_DIFF_DARK = 5'd9,
+                         J_SPEC_NONE = 5'd10,
+                         J_SH_DIFF   = 5'd11,
+                         J_SH_REFL   = 5'd12,
+                         J_SH_SPEC   = 5'd13,
+                         J_UNWIND    = 5'd14,
+                         J_PRN_FIRST = 5'd15,
+                         J_PRN_AFTER = 5'd16,
+                         J_POP_ADD   = 5'd17,
+                         J_POP_MOV   = 5'd18,
+                         J_COLOUR    = 5'd19,
+                         J_SPH_V     = 5'd20,   // SPH_V on sph_first
+                         J_PLANE     = 5'd21,   // ISECT_1 on a plane (j inserted at C2)
+                         J_OFFSET    = 5'd22,   // SH_POINT, sp after the push
+                         J_DOT_SPH   = 5'd23,   // DOT_1, call SPHERE
+                         J_DOT_LIGHT = 5'd24;   // DOT_1, call LIGHT
+
+    reg [JSW-1:0]   src0, src1;
+    reg [SW-1:0]    nst0, nst1;
+    reg [SWD-1:0]   r0, r1;      // the candidates' fields outside the jump (S's, updated)
     reg [LN-1:0]    mn, mp;
     reg             inv;
     reg             ld_dir, ld_facing, ld_cut;
     reg             ns_planes;   // NORM_SCALE: cond = a plane the fresh direction leaves open
     reg             box_corner;  // NORM_SCALE: A0 is BOX_FAR, its corner from the fresh signs
-    reg [SWD-1:0]   common;
-
-    wire [SW-1:0]   st3   = s3[J_ST +: SW];
-    wire [CALLW-1:0] call3 = s3[J_CALL +: CALLW];
-    wire            ctx3   = s3[S_CTX];
-    wire            found3 = s3[S_FOUND];
-    wire            kind3  = s3[J_KIND];
-    wire [LN-1:0]   dsign3 = s3[S_DSIGN +: LN];
-    wire [LN-1:0]   dsign_r1_3 = {dsign3[0], dsign3[LN-1:1]};
-    wire [LN-1:0]   dsign_r2_3 = {dsign3[1:0], dsign3[LN-1:2]};
-    wire [LN-1:0]   same1_3 = ~(dsign3 ^ dsign_r1_3);
-    wire [LN-1:0]   same2_3 = ~(dsign3 ^ dsign_r2_3);
-    wire            prim3   = (call3 == D_PRIMARY);
-
     always @* begin
-        common     = s3;
+        src0       = J_NEXT;
+        nst0       = st4;
+        r0         = s4;
         mn         = {LN{1'b0}};
         mp         = {LN{1'b0}};
         inv        = 1'b0;
@@ -761,294 +879,404 @@ module fast_ctrl #(
         ld_cut     = 1'b0;
         ns_planes  = 1'b0;
         box_corner = 1'b0;
-        a0         = s3;
-        a1         = s3;
-        if (!h3) begin
-            case (st3)
-                `ISA_ST_PRI_ITOF: a0[J_ST +: SW] = `ISA_ST_PRI_HALF;
-                `ISA_ST_PRI_HALF: {a0[S_ROT +: RAW], a0[J_ST +: SW], a0[J_CALL +: CALLW]} = prn_first3;
-                `ISA_ST_ROT_COS:   a0[J_ST +: SW] = `ISA_ST_ROT_SIN_U;
-                `ISA_ST_ROT_SIN_U: a0[J_ST +: SW] = `ISA_ST_ROT_SIN_V;
-                `ISA_ST_ROT_SIN_V: a0[J_ST +: SW] = `ISA_ST_ROT_ADD;
-                `ISA_ST_ROT_ADD:  {a0[S_ROT +: RAW], a0[J_ST +: SW], a0[J_CALL +: CALLW]} = prn_after3;
-                `ISA_ST_DOT_1: a0[J_ST +: SW] = `ISA_ST_DOT_2;
-                `ISA_ST_DOT_2: a0[J_ST +: SW] = `ISA_ST_DOT_3;
+        src1       = J_NEXT;
+        nst1       = st4;
+        r1         = s4;
+        if (!h4) begin
+            case (st4)
+                `ISA_ST_PRI_ITOF:  nst0 = `ISA_ST_PRI_HALF;
+                `ISA_ST_PRI_HALF: begin
+                    src0 = J_PRN_FIRST;
+                    r0[S_ROT +: RAW] = prn_first4[CALLW + SW +: RAW];
+                end
+                `ISA_ST_ROT_COS:   nst0 = `ISA_ST_ROT_SIN_U;
+                `ISA_ST_ROT_SIN_U: nst0 = `ISA_ST_ROT_SIN_V;
+                `ISA_ST_ROT_SIN_V: nst0 = `ISA_ST_ROT_ADD;
+                `ISA_ST_ROT_ADD: begin
+                    src0 = J_PRN_AFTER;
+                    r0[S_ROT +: RAW] = prn_after4[CALLW + SW +: RAW];
+                end
+                `ISA_ST_DOT_1: nst0 = `ISA_ST_DOT_2;
+                `ISA_ST_DOT_2: nst0 = `ISA_ST_DOT_3;
                 `ISA_ST_DOT_3:
-                    case (call3)
-                        D_PRIMARY, D_LIGHT: a0[J_ST +: SW] = `ISA_ST_NORM_ROOTS;
+                    case (call4)
+                        D_PRIMARY, D_LIGHT: nst0 = `ISA_ST_NORM_ROOTS;
                         D_SPHERE: begin
-                            mn = M_X;                       // b < 0: the near root may be ahead
-                            a1[J_ST +: SW] = `ISA_ST_SPH_BD;
-                            a0[0 +: JW]    = nh_after3;
+                            mn   = M_X;                     // b < 0: the near root may be ahead
+                            nst1 = `ISA_ST_SPH_BD;
+                            src0 = J_NH_AFTER;
                         end
                         D_DIFFUSE: begin
                             mp = M_X;                       // n.l > 0
                             ld_facing = 1'b1;
-                            if (obj_bits3[MAT_DIFFUSE]) a1[J_ST +: SW] = `ISA_ST_SH_KD;
-                            else                        a1[0 +: JW]    = diffuse_lit3;
-                            a0[0 +: JW] = diffuse_dark3;
+                            if (obj_bits4[MAT_DIFFUSE]) nst1 = `ISA_ST_SH_KD;
+                            else                        src1 = J_DIFF_LIT;
+                            src0 = J_DIFF_DARK;
                         end
-                        D_REFLECT: a0[J_ST +: SW] = `ISA_ST_SH_REFL_K;
+                        D_REFLECT: nst0 = `ISA_ST_SH_REFL_K;
                         default: begin
-                            mp = M_X;                       // r.l > 0
-                            a1[J_ST +: SW] = `ISA_ST_SH_POW2;
-                            a0[0 +: JW]    = spec_none3;
+                            mp   = M_X;                     // r.l > 0
+                            nst1 = `ISA_ST_SH_POW2;
+                            src0 = J_SPEC_NONE;
                         end
                     endcase
-                `ISA_ST_NORM_ROOTS: a0[J_ST +: SW] = `ISA_ST_NORM_INV;
-                `ISA_ST_NORM_INV:   a0[J_ST +: SW] = `ISA_ST_NORM_SCALE;
+                `ISA_ST_NORM_ROOTS: nst0 = `ISA_ST_NORM_INV;
+                `ISA_ST_NORM_INV:   nst0 = `ISA_ST_NORM_SCALE;
                 `ISA_ST_NORM_SCALE: begin
                     ld_dir = 1'b1;
-                    common[S_CTX]   = prim3 ? C_HIT : C_SHD;
-                    common[S_FOUND] = 1'b0;
-                    a0 = common;
-                    a1 = common;
-                    if (sph_first3[OW]) begin
+                    r0[S_CTX]   = prim4 ? C_HIT : C_SHD;
+                    r0[S_FOUND] = 1'b0;
+                    r1[S_CTX]   = prim4 ? C_HIT : C_SHD;
+                    r1[S_FOUND] = 1'b0;
+                    if (sph_first4[OW]) begin
                         if (bbox) begin
-                            a0[J_ST +: SW] = `ISA_ST_BOX_FAR;
-                            box_corner     = 1'b1;
-                        end else begin
-                            a0[J_ST +: SW]  = `ISA_ST_SPH_V;
-                            a0[J_KIND]      = K_SPH;
-                            a0[J_IDX +: OW] = sph_first3[OW-1:0];
-                        end
-                    end else if (!prim3 && shortcut)
-                        a0[0 +: JW] = shd_false3;
+                            nst0       = `ISA_ST_BOX_FAR;
+                            box_corner = 1'b1;
+                        end else
+                            src0 = J_SPH_V;
+                    end else if (!prim4 && shortcut)
+                        src0 = J_SHD_FALSE;
                     else begin
-                        ns_planes       = 1'b1;
-                        a1[J_ST +: SW]  = `ISA_ST_ISECT_1;
-                        a1[J_KIND]      = K_PLN;
-                        a0[0 +: JW]     = prim3 ? unwind_j3 : shd_false3;
+                        ns_planes = 1'b1;
+                        src1      = J_PLANE;
+                        src0      = prim4 ? J_UNWIND : J_SHD_FALSE;
                     end
                 end
-                `ISA_ST_ISECT_1: a0[J_ST +: SW] = `ISA_ST_ISECT_2;
-                `ISA_ST_ISECT_2: a0[J_ST +: SW] = `ISA_ST_ISECT_3;
-                `ISA_ST_ISECT_3: a0[J_ST +: SW] = `ISA_ST_ISECT_4;
+                `ISA_ST_ISECT_1: nst0 = `ISA_ST_ISECT_2;
+                `ISA_ST_ISECT_2: nst0 = `ISA_ST_ISECT_3;
+                `ISA_ST_ISECT_3: nst0 = `ISA_ST_ISECT_4;
                 `ISA_ST_ISECT_4: begin
                     // miss: a sphere's disc < 0; a plane facing away, unless
                     // the fast test decided
-                    if (kind3 == K_SPH) mn = M_X;
+                    if (kind4 == K_SPH) mn = M_X;
                     else if (!fast) begin
                         mn  = M_Y;
                         inv = 1'b1;
                     end
-                    a1[0 +: JW]    = nh_after3;
-                    a0[J_ST +: SW] = kind3 == K_SPH ? `ISA_ST_SPH_SQRT : `ISA_ST_PLN_RECIP;
+                    src1 = J_NH_AFTER;
+                    nst0 = kind4 == K_SPH ? `ISA_ST_SPH_SQRT : `ISA_ST_PLN_RECIP;
                 end
-                `ISA_ST_BOX_FAR: a0[J_ST +: SW] = `ISA_ST_BOX_BEHIND;
+                `ISA_ST_BOX_FAR: nst0 = `ISA_ST_BOX_BEHIND;
                 `ISA_ST_BOX_BEHIND: begin
-                    mn = M_XYZ;
-                    a1[0 +: JW]    = box_false3;
-                    a0[J_ST +: SW] = `ISA_ST_BOX_NEAR;
+                    mn   = M_XYZ;
+                    src1 = J_BOX_FALSE;
+                    nst0 = `ISA_ST_BOX_NEAR;
                 end
-                `ISA_ST_BOX_NEAR: a0[J_ST +: SW] = `ISA_ST_BOX_P1;
-                `ISA_ST_BOX_P1:   a0[J_ST +: SW] = `ISA_ST_BOX_Q1;
-                `ISA_ST_BOX_Q1:   a0[J_ST +: SW] = `ISA_ST_BOX_D1;
+                `ISA_ST_BOX_NEAR: nst0 = `ISA_ST_BOX_P1;
+                `ISA_ST_BOX_P1:   nst0 = `ISA_ST_BOX_Q1;
+                `ISA_ST_BOX_Q1:   nst0 = `ISA_ST_BOX_D1;
                 `ISA_ST_BOX_D1: begin
-                    mp = same1_3;
-                    mn = ~same1_3;
-                    a1[0 +: JW]    = box_false3;
-                    a0[J_ST +: SW] = `ISA_ST_BOX_P2;
+                    mp   = same1_4;
+                    mn   = ~same1_4;
+                    src1 = J_BOX_FALSE;
+                    nst0 = `ISA_ST_BOX_P2;
                 end
-                `ISA_ST_BOX_P2: a0[J_ST +: SW] = `ISA_ST_BOX_Q2;
-                `ISA_ST_BOX_Q2: a0[J_ST +: SW] = `ISA_ST_BOX_D2;
+                `ISA_ST_BOX_P2: nst0 = `ISA_ST_BOX_Q2;
+                `ISA_ST_BOX_Q2: nst0 = `ISA_ST_BOX_D2;
                 `ISA_ST_BOX_D2: begin
-                    mp = same2_3;
-                    mn = ~same2_3;
-                    a1[0 +: JW]     = box_false3;
-                    a0[J_ST +: SW]  = `ISA_ST_SPH_V;
-                    a0[J_KIND]      = K_SPH;
-                    a0[J_IDX +: OW] = sph_first3[OW-1:0];
+                    mp   = same2_4;
+                    mn   = ~same2_4;
+                    src1 = J_BOX_FALSE;
+                    src0 = J_SPH_V;
                 end
-                `ISA_ST_SPH_V: begin
-                    a0[J_ST +: SW]      = `ISA_ST_DOT_1;
-                    a0[J_CALL +: CALLW] = D_SPHERE;
-                end
-                `ISA_ST_SPH_BD:   a0[J_ST +: SW] = `ISA_ST_SPH_W;
-                `ISA_ST_SPH_W:    a0[J_ST +: SW] = `ISA_ST_ISECT_1;
-                `ISA_ST_SPH_SQRT: a0[J_ST +: SW] = `ISA_ST_SPH_T;
+                `ISA_ST_SPH_V:    src0 = J_DOT_SPH;
+                `ISA_ST_SPH_BD:   nst0 = `ISA_ST_SPH_W;
+                `ISA_ST_SPH_W:    nst0 = `ISA_ST_ISECT_1;
+                `ISA_ST_SPH_SQRT: nst0 = `ISA_ST_SPH_T;
                 `ISA_ST_SPH_T: begin
-                    mn = M_X;                               // u < 0: ahead
-                    a0[0 +: JW] = nh_after3;
-                    if (ctx3 == C_HIT) begin
-                        if (!found3) {a1[S_BKIND], a1[S_BIDX +: OW]} = {kind3, s3[J_IDX +: OW]};
-                        a1[S_FOUND] = 1'b1;
-                        a1[0 +: JW] = offer3;
+                    mn   = M_X;                             // u < 0: ahead
+                    src0 = J_NH_AFTER;
+                    if (ctx4 == C_HIT) begin
+                        if (!found4) {r1[S_BKIND], r1[S_BIDX +: OW]} = {kind4, s4[J_IDX +: OW]};
+                        r1[S_FOUND] = 1'b1;
+                        src1 = J_OFFER;
                     end else if (shortcut) begin
-                        a1[S_FOUND] = 1'b1;
-                        a1[0 +: JW] = shd_true3;
+                        r1[S_FOUND] = 1'b1;
+                        src1 = J_SHD_TRUE;
                     end else
-                        a1[J_ST +: SW] = `ISA_ST_SHD_DIST;
+                        nst1 = `ISA_ST_SHD_DIST;
                 end
-                `ISA_ST_PLN_RECIP: a0[J_ST +: SW] = `ISA_ST_PLN_T;
+                `ISA_ST_PLN_RECIP: nst0 = `ISA_ST_PLN_T;
                 `ISA_ST_PLN_T: begin
                     if (fast) inv = 1'b1;                   // assumed ahead
                     else      mn  = M_X;
-                    a0[0 +: JW] = nh_after3;
-                    if (ctx3 == C_HIT) begin
-                        if (!found3) {a1[S_BKIND], a1[S_BIDX +: OW]} = {kind3, s3[J_IDX +: OW]};
-                        a1[S_FOUND] = 1'b1;
-                        a1[0 +: JW] = offer3;
+                    src0 = J_NH_AFTER;
+                    if (ctx4 == C_HIT) begin
+                        if (!found4) {r1[S_BKIND], r1[S_BIDX +: OW]} = {kind4, s4[J_IDX +: OW]};
+                        r1[S_FOUND] = 1'b1;
+                        src1 = J_OFFER;
                     end else
-                        a1[J_ST +: SW] = `ISA_ST_SHD_DIST;
+                        nst1 = `ISA_ST_SHD_DIST;
                 end
                 `ISA_ST_HIT_CMP: begin
-                    mp = M_X;                               // nearer than the best
-                    a1[J_ST +: SW] = `ISA_ST_HIT_KEEP;
-                    a0[0 +: JW]    = nh_after3;
+                    mp   = M_X;                             // nearer than the best
+                    nst1 = `ISA_ST_HIT_KEEP;
+                    src0 = J_NH_AFTER;
                 end
                 `ISA_ST_HIT_KEEP: begin
-                    {a0[S_BKIND], a0[S_BIDX +: OW]} = {kind3, s3[J_IDX +: OW]};
-                    a0[0 +: JW] = nh_kept3;
+                    {r0[S_BKIND], r0[S_BIDX +: OW]} = {kind4, s4[J_IDX +: OW]};
+                    src0 = J_NH_KEPT;
                 end
-                `ISA_ST_CUT_W: a0[J_ST +: SW] = `ISA_ST_CUT_CMP;
+                `ISA_ST_CUT_W: nst0 = `ISA_ST_CUT_CMP;
                 `ISA_ST_CUT_CMP: begin
                     ld_cut = 1'b1;
-                    a0[J_ST +: SW] = `ISA_ST_SH_OFFSET;
+                    nst0   = `ISA_ST_SH_OFFSET;
                 end
                 `ISA_ST_SHD_DIST: begin
-                    mp = M_X;                               // the blocker is before the light
-                    a1[S_FOUND] = 1'b1;
-                    a1[0 +: JW] = shd_true3;
-                    a0[0 +: JW] = nh_after3;
+                    mp   = M_X;                             // the blocker is before the light
+                    r1[S_FOUND] = 1'b1;
+                    src1 = J_SHD_TRUE;
+                    src0 = J_NH_AFTER;
                 end
                 `ISA_ST_SH_OFFSET: begin
-                    a0[S_PUSH]         = run_push3;
-                    a0[S_CUT]          = 1'b0;
-                    a0[J_SP +: SPW]    = s3[J_SP +: SPW] + {{(SPW - 1){1'b0}}, run_push3};
-                    a0[S_OKIND]        = s3[S_BKIND];
-                    a0[S_OIDX +: OW]   = s3[S_BIDX +: OW];
-                    a0[S_EXCL]         = 1'b1;
-                    a0[S_DIFF]         = 1'b0;
-                    a0[S_SPEC]         = 1'b0;
-                    a0[S_FACE]         = 1'b0;
-                    a0[J_ST +: SW]     = `ISA_ST_SH_POINT;
+                    r0[S_PUSH]       = run_push4;
+                    r0[S_CUT]        = 1'b0;
+                    r0[S_OKIND]      = s4[S_BKIND];
+                    r0[S_OIDX +: OW] = s4[S_BIDX +: OW];
+                    r0[S_EXCL]       = 1'b1;
+                    r0[S_DIFF]       = 1'b0;
+                    r0[S_SPEC]       = 1'b0;
+                    r0[S_FACE]       = 1'b0;
+                    src0             = J_OFFSET;
                 end
                 `ISA_ST_SH_POINT:
-                    a0[J_ST +: SW] = s3[S_OKIND] == K_SPH ? `ISA_ST_SH_NORMAL_SUB : `ISA_ST_SH_LIGHT_VEC;
-                `ISA_ST_SH_NORMAL_SUB:   a0[J_ST +: SW] = `ISA_ST_SH_NORMAL_SCALE;
-                `ISA_ST_SH_NORMAL_SCALE: a0[J_ST +: SW] = `ISA_ST_SH_LIGHT_VEC;
-                `ISA_ST_SH_LIGHT_VEC: begin
-                    a0[J_ST +: SW]      = `ISA_ST_DOT_1;
-                    a0[J_CALL +: CALLW] = D_LIGHT;
-                end
-                `ISA_ST_SH_KD: a0[J_ST +: SW] = `ISA_ST_SH_CL;
-                `ISA_ST_SH_CL: a0[J_ST +: SW] = `ISA_ST_SH_DIFFUSE;
+                    nst0 = s4[S_OKIND] == K_SPH ? `ISA_ST_SH_NORMAL_SUB : `ISA_ST_SH_LIGHT_VEC;
+                `ISA_ST_SH_NORMAL_SUB:   nst0 = `ISA_ST_SH_NORMAL_SCALE;
+                `ISA_ST_SH_NORMAL_SCALE: nst0 = `ISA_ST_SH_LIGHT_VEC;
+                `ISA_ST_SH_LIGHT_VEC:    src0 = J_DOT_LIGHT;
+                `ISA_ST_SH_KD: nst0 = `ISA_ST_SH_CL;
+                `ISA_ST_SH_CL: nst0 = `ISA_ST_SH_DIFFUSE;
                 `ISA_ST_SH_DIFFUSE: begin
-                    a0[S_DIFF]  = 1'b1;
-                    a0[0 +: JW] = sh_diffuse3;
+                    r0[S_DIFF] = 1'b1;
+                    src0 = J_SH_DIFF;
                 end
-                `ISA_ST_SH_REFL_K: a0[J_ST +: SW] = `ISA_ST_SH_REFL;
+                `ISA_ST_SH_REFL_K: nst0 = `ISA_ST_SH_REFL;
                 `ISA_ST_SH_REFL: begin
-                    ld_dir      = 1'b1;
-                    a0[0 +: JW] = sh_refl3;
+                    ld_dir = 1'b1;
+                    src0   = J_SH_REFL;
                 end
-                `ISA_ST_SH_POW2:  a0[J_ST +: SW] = `ISA_ST_SH_POW4;
-                `ISA_ST_SH_POW4:  a0[J_ST +: SW] = `ISA_ST_SH_POW5;
-                `ISA_ST_SH_POW5:  a0[J_ST +: SW] = `ISA_ST_SH_POW10;
-                `ISA_ST_SH_POW10: a0[J_ST +: SW] = `ISA_ST_SH_POW20;
-                `ISA_ST_SH_POW20: a0[J_ST +: SW] = `ISA_ST_SH_KS;
-                `ISA_ST_SH_KS:    a0[J_ST +: SW] = `ISA_ST_SH_SPEC;
+                `ISA_ST_SH_POW2:  nst0 = `ISA_ST_SH_POW4;
+                `ISA_ST_SH_POW4:  nst0 = `ISA_ST_SH_POW5;
+                `ISA_ST_SH_POW5:  nst0 = `ISA_ST_SH_POW10;
+                `ISA_ST_SH_POW10: nst0 = `ISA_ST_SH_POW20;
+                `ISA_ST_SH_POW20: nst0 = `ISA_ST_SH_KS;
+                `ISA_ST_SH_KS:    nst0 = `ISA_ST_SH_SPEC;
                 `ISA_ST_SH_SPEC: begin
-                    a0[S_SPEC]  = 1'b1;
-                    a0[0 +: JW] = sh_spec3;
+                    r0[S_SPEC] = 1'b1;
+                    src0 = J_SH_SPEC;
                 end
-                `ISA_ST_SH_LOCAL: a0[J_ST +: SW] = `ISA_ST_SH_COLOUR;
+                `ISA_ST_SH_LOCAL: nst0 = `ISA_ST_SH_COLOUR;
                 `ISA_ST_SH_COLOUR: begin
                     // col[shading_level] = 1: the level below sp when pushing
-                    a0[S_COL +: STK_N] = with_level(s3[S_COL +: STK_N],
-                                                    s3[S_PUSH] ? s3[J_SP +: SPW] - 1'b1 : s3[J_SP +: SPW]);
-                    if (s3[S_PUSH]) a0[J_ST +: SW] = `ISA_ST_SH_CHILD_W;
-                    else            {a0[J_ST +: SW], a0[J_SP +: SPW]} = unwind_colour3;
+                    r0[S_COL +: STK_N] = col_shade4;
+                    if (push4) nst0 = `ISA_ST_SH_CHILD_W;
+                    else       src0 = J_COLOUR;
                 end
                 `ISA_ST_SH_CHILD_W: begin
-                    a0[S_CTX]   = C_HIT;
-                    a0[S_FOUND] = 1'b0;
-                    a0[0 +: JW] = nh_start3;
+                    r0[S_CTX]   = C_HIT;
+                    r0[S_FOUND] = 1'b0;
+                    src0 = J_NH_START;
                 end
-                `ISA_ST_POP_ADD: {a0[J_ST +: SW], a0[J_SP +: SPW]} = unwind_pop_add3;
+                `ISA_ST_POP_ADD: src0 = J_POP_ADD;
                 `ISA_ST_POP_MOV: begin
-                    a0[S_COL +: STK_N] = with_level(s3[S_COL +: STK_N], s3[J_SP +: SPW] - 1'b1);
-                    {a0[J_ST +: SW], a0[J_SP +: SPW]} = unwind_pop_mov3;
+                    r0[S_COL +: STK_N] = col_mov4;
+                    src0 = J_POP_MOV;
                 end
-                `ISA_ST_ROOT_BLACK: a0[J_ST +: SW] = pixel_end;
-                `ISA_ST_EXPO_MUL:   a0[J_ST +: SW] = `ISA_ST_EXPO_EXP;
-                `ISA_ST_EXPO_EXP:   a0[J_ST +: SW] = `ISA_ST_EXPO_SUB;
-                `ISA_ST_EXPO_SUB:   a0[J_ST +: SW] = `ISA_ST_PIX_DONE;
-                default:            a0[J_ST +: SW] = ST_IDLE;
+                `ISA_ST_ROOT_BLACK: nst0 = pixel_end;
+                `ISA_ST_EXPO_MUL:   nst0 = `ISA_ST_EXPO_EXP;
+                `ISA_ST_EXPO_EXP:   nst0 = `ISA_ST_EXPO_SUB;
+                `ISA_ST_EXPO_SUB:   nst0 = `ISA_ST_PIX_DONE;
+                default:            nst0 = ST_IDLE;
             endcase
         end
     end
 
-    reg [SWD-1:0]   a0_4, a1_4;
-    reg [LN-1:0]    mn4, mp4;
-    reg             inv4, ld_dir4, ld_facing4, ld_cut4, ns_planes4, box_corner4;
-    reg [PLN_N-1:0] pln_open4;
+    // A jump with st replaced; with {st, sp} replaced.
+    function [JW-1:0] with_st(input [JW-1:0] j, input [SW-1:0] st);
+        begin
+            with_st = j;
+            with_st[J_ST +: SW] = st;
+        end
+    endfunction
+    function [JW-1:0] with_st_sp(input [JW-1:0] j, input [SW+SPW-1:0] st_sp);
+        begin
+            with_st_sp = j;
+            {with_st_sp[J_ST +: SW], with_st_sp[J_SP +: SPW]} = st_sp;
+        end
+    endfunction
+    function [JW-1:0] with_prn(input [JW-1:0] j, input [SW+CALLW-1:0] st_call);
+        begin
+            with_prn = j;
+            {with_prn[J_ST +: SW], with_prn[J_CALL +: CALLW]} = st_call;
+        end
+    endfunction
+    function [JW-1:0] with_object(input [JW-1:0] j, input [SW-1:0] st, input kind, input [OW-1:0] idx);
+        begin
+            with_object = j;
+            with_object[J_ST +: SW]  = st;
+            with_object[J_KIND]      = kind;
+            with_object[J_IDX +: OW] = idx;
+        end
+    endfunction
+    function [JW-1:0] with_call(input [JW-1:0] j, input [SW-1:0] st, input [CALLW-1:0] call);
+        begin
+            with_call = j;
+            with_call[J_ST +: SW]      = st;
+            with_call[J_CALL +: CALLW] = call;
+        end
+    endfunction
+
+    reg [SWD-1:0]   s5;
+    reg [JSW-1:0]   src0_5, src1_5;
+    reg [SW-1:0]    nst0_5, nst1_5;
+    reg [SWD-1:0]   r0_5, r1_5;
+    reg [LN-1:0]    mn5, mp5;
+    reg             inv5, ld_dir5, ld_facing5, ld_cut5, ns_planes5, box_corner5;
+    reg [PLN_N-1:0] pln_open5;
+    // The jumps.
+    reg [JW-1:0]    j_nh_after5, j_box_false5, j_offer5, j_shd_true5, j_shd_false5, j_nh_kept5,
+                    j_nh_start5, j_diff_lit5, j_diff_dark5, j_spec_none5, j_sh_diff5, j_sh_refl5,
+                    j_sh_spec5, j_unwind5, j_prn_first5, j_prn_after5, j_pop_add5, j_pop_mov5,
+                    j_colour5, j_sph_v5, j_plane5, j_offset5, j_dot_sph5, j_dot_light5;
     always @(posedge clk) begin
-        a0_4        <= a0;
-        a1_4        <= a1;
-        mn4         <= mn;
-        mp4         <= mp;
-        inv4        <= inv;
-        ld_dir4     <= ld_dir;
-        ld_facing4  <= ld_facing;
-        ld_cut4     <= ld_cut;
-        ns_planes4  <= ns_planes;
-        box_corner4 <= box_corner;
-        pln_open4   <= pln_open3;
+        s5          <= s4;
+        src0_5      <= src0;
+        src1_5      <= src1;
+        nst0_5      <= nst0;
+        nst1_5      <= nst1;
+        r0_5        <= r0;
+        r1_5        <= r1;
+        mn5         <= mn;
+        mp5         <= mp;
+        inv5        <= inv;
+        ld_dir5     <= ld_dir;
+        ld_facing5  <= ld_facing;
+        ld_cut5     <= ld_cut;
+        ns_planes5  <= ns_planes;
+        box_corner5 <= box_corner;
+        pln_open5   <= pln_base4;
+        j_nh_after5  <= nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
+                                         found4, shortcut, cut_best4, shd_false4, unwind_j4);
+        j_box_false5 <= nearest_hit_next(stay4, 1'b0, NONE, 1'b1, pln_first4, ctx4,
+                                         found4, shortcut, cut_best4, shd_false4, unwind_j4);
+        // offer: the first hit stays in the search; a later one is compared.
+        j_offer5     <= found4 ? with_st(stay4, `ISA_ST_HIT_CMP)
+                               : nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
+                                                  1'b1, shortcut, cut_this4, shd_false4, unwind_j4);
+        j_shd_true5  <= shade_next(S_DIFFUSE, 1'b0, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_shd_false5 <= shd_false4;
+        j_nh_kept5   <= nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
+                                         found4, shortcut, cut_this4, shd_false4, unwind_j4);
+        j_nh_start5  <= nearest_hit_next(stay4, bbox, sph_first4, 1'b1, pln_first4, C_HIT,
+                                         1'b0, shortcut, cut_best4, shd_false4, unwind_j4);
+        j_diff_lit5  <= shade_next(S_REFLECT, 1'b1, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_diff_dark5 <= shade_next(S_REFLECT, 1'b0, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_spec_none5 <= shade_next(S_LOCAL, face4, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_sh_diff5   <= shade_next(S_REFLECT, face4, 1'b1, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_sh_refl5   <= shade_next(S_SPECULAR, face4, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+        j_sh_spec5   <= shade_next(S_LOCAL, face4, diff4, 1'b1, obj_bits4, push4, stay4, unwind_j4);
+        j_unwind5    <= unwind_j4;
+        j_prn_first5 <= with_prn(stay4, prn_first4[0 +: SW + CALLW]);
+        j_prn_after5 <= with_prn(stay4, prn_after4[0 +: SW + CALLW]);
+        j_pop_add5   <= with_st_sp(stay4, uw_add4);
+        j_pop_mov5   <= with_st_sp(stay4, uw_mov4);
+        j_colour5    <= with_st_sp(stay4, uw_col4);
+        j_sph_v5     <= with_object(stay4, `ISA_ST_SPH_V, K_SPH, sph_first4[OW-1:0]);
+        j_plane5     <= with_object(stay4, `ISA_ST_ISECT_1, K_PLN, {OW{1'b0}});
+        j_offset5    <= with_st_sp(stay4, {ST_SH_POINT, sp_offset4});
+        j_dot_sph5   <= with_call(stay4, `ISA_ST_DOT_1, D_SPHERE);
+        j_dot_light5 <= with_call(stay4, `ISA_ST_DOT_1, D_LIGHT);
     end
+    wire unused_next4 = ^{sph_next4[OW], pln_next4[OW]};
+
+    // ------------------------------------------------------------------------
+    // P3: the candidates: their jumps selected
+    // ------------------------------------------------------------------------
+    function [JW-1:0] jump_of(input [JSW-1:0] src, input [SW-1:0] nst, input [JW-1:0] stay_j,
+                              input [25*JW-1:0] js);
+        begin
+            case (src)
+                J_NEXT:  jump_of = with_st(stay_j, nst);
+                default: jump_of = js[JW*src +: JW];
+            endcase
+        end
+    endfunction
+    wire [25*JW-1:0] jumps5 = {j_dot_light5, j_dot_sph5, j_offset5, j_plane5, j_sph_v5, j_colour5,
+                               j_pop_mov5, j_pop_add5, j_prn_after5, j_prn_first5, j_unwind5,
+                               j_sh_spec5, j_sh_refl5, j_sh_diff5, j_spec_none5, j_diff_dark5,
+                               j_diff_lit5, j_nh_start5, j_nh_kept5, j_shd_false5, j_shd_true5,
+                               j_offer5, j_box_false5, j_nh_after5, {JW{1'b0}}};
+
+    reg [SWD-1:0]   a0_c, a1_c;
+    reg [LN-1:0]    mn_c, mp_c;
+    reg             inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c, box_corner_c;
+    reg [PLN_N-1:0] pln_open_c;
+    always @(posedge clk) begin
+        a0_c         <= {r0_5[SWD-1:JW], jump_of(src0_5, nst0_5, s5[0 +: JW], jumps5)};
+        a1_c         <= {r1_5[SWD-1:JW], jump_of(src1_5, nst1_5, s5[0 +: JW], jumps5)};
+        mn_c         <= mn5;
+        mp_c         <= mp5;
+        inv_c        <= inv5;
+        ld_dir_c     <= ld_dir5;
+        ld_facing_c  <= ld_facing5;
+        ld_cut_c     <= ld_cut5;
+        ns_planes_c  <= ns_planes5;
+        box_corner_c <= box_corner5;
+        pln_open_c   <= pln_open5;
+    end
+    wire unused_r_jumps = ^{r0_5[JW-1:0], r1_5[JW-1:0], s5[SWD-1:JW]};
 
     // ------------------------------------------------------------------------
     // P4, P5: the candidates' micro-ops, then their physical addresses
     // ------------------------------------------------------------------------
     localparam integer CODE_W = 2 * LN + 6 + PLN_N;   // mn, mp, inv, latches, ns, box, open
-    wire [CODE_W-1:0] code4 = {mn4, mp4, inv4, ld_dir4, ld_facing4, ld_cut4, ns_planes4, box_corner4,
-                               pln_open4};
+    wire [CODE_W-1:0] code_c = {mn_c, mp_c, inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c,
+                                box_corner_c, pln_open_c};
 
-    reg [SWD-1:0]    a0_5, a1_5;
-    reg [UW-1:0]     l0_5, l1_5;
-    reg [CODE_W-1:0] code5;
+    reg [SWD-1:0]    a0_u, a1_u;
+    reg [UW-1:0]     l0_u, l1_u;
+    reg [CODE_W-1:0] code_u;
     always @(posedge clk) begin
-        a0_5  <= a0_4;
-        a1_5  <= a1_4;
-        l0_5  <= micro_op(a0_4);
-        l1_5  <= micro_op(a1_4);
-        code5 <= code4;
+        a0_u   <= a0_c;
+        a1_u   <= a1_c;
+        l0_u   <= micro_op(a0_c);
+        l1_u   <= micro_op(a1_c);
+        code_u <= code_c;
     end
 
     wire [RW-1:0] p0_a, p0_b, p0_w, p1_a, p1_b, p1_w;
     mem_ctrl #(.STACK_DEPTH(STACK_DEPTH)) u_map0 (
-        .sp   (a0_5[J_SP +: SPW]),
-        .la_a (l0_5[U_A +: RW]),
-        .la_b (l0_5[U_B +: RW]),
-        .la_w (l0_5[U_W +: RW]),
+        .sp   (a0_u[J_SP +: SPW]),
+        .la_a (l0_u[U_A +: RW]),
+        .la_b (l0_u[U_B +: RW]),
+        .la_w (l0_u[U_W +: RW]),
         .pa_a (p0_a),
         .pa_b (p0_b),
         .pa_w (p0_w)
     );
     mem_ctrl #(.STACK_DEPTH(STACK_DEPTH)) u_map1 (
-        .sp   (a1_5[J_SP +: SPW]),
-        .la_a (l1_5[U_A +: RW]),
-        .la_b (l1_5[U_B +: RW]),
-        .la_w (l1_5[U_W +: RW]),
+        .sp   (a1_u[J_SP +: SPW]),
+        .la_a (l1_u[U_A +: RW]),
+        .la_b (l1_u[U_B +: RW]),
+        .la_w (l1_u[U_W +: RW]),
         .pa_a (p1_a),
         .pa_b (p1_b),
         .pa_w (p1_w)
     );
 
     localparam integer BW = 2 * SWD + 2 * UW + CODE_W;   // the bundle carried to C1
-    reg [BW-1:0] b6;
+    reg [BW-1:0] b_p;
     always @(posedge clk)
-        b6 <= {a0_5, a1_5,
-               l0_5[U_OP +: OPW], p0_a, p0_b, p0_w, l0_5[U_MASK +: LN],
-               l1_5[U_OP +: OPW], p1_a, p1_b, p1_w, l1_5[U_MASK +: LN],
-               code5};
+        b_p <= {a0_u, a1_u,
+               l0_u[U_OP +: OPW], p0_a, p0_b, p0_w, l0_u[U_MASK +: LN],
+               l1_u[U_OP +: OPW], p1_a, p1_b, p1_w, l1_u[U_MASK +: LN],
+               code_u};
 
     // ------------------------------------------------------------------------
-    // Carried to C1 (positions 7 .. LAT+2)
+    // Carried to C1 (positions 9 .. LAT+2)
     // ------------------------------------------------------------------------
     wire [BW-1:0] bc;
-    fast_delay #(.WIDTH(BW), .STAGES(CARRY1)) u_carry1 (.clk(clk), .d(b6), .q(bc));
+    fast_delay #(.WIDTH(BW), .STAGES(CARRY1)) u_carry1 (.clk(clk), .d(b_p), .q(bc));
 
     wire [SWD-1:0]    c_a0, c_a1;
     wire [UW-1:0]     c_u0, c_u1;
@@ -1089,13 +1317,13 @@ module fast_ctrl #(
         u1_c2   <= c_u1;
         cond_c2 <= c_inv ^ (|((y_neg & c_mn) | (y_pos & c_mp)));
         ns_c2   <= c_ns;
-        open_c2 <= c_open & planes_facing(fast, pln_axis, pln_neg, y_neg, y_pos);
+        open_c2 <= c_open & planes_facing(fast, pln_sel_q, y_neg, y_pos);
     end
 
     // ------------------------------------------------------------------------
     // C2: NORM_SCALE's plane, the choice
     // ------------------------------------------------------------------------
-    wire [OW:0]    plane_c2 = first_of(open_c2);
+    wire [OW:0]    plane_c2 = first_of(pln_pad(open_c2));
     wire           cond     = ns_c2 ? plane_c2[OW] : cond_c2;
     reg [SWD-1:0]  s_next;
     reg [UW-1:0]   u_next;
@@ -1124,7 +1352,18 @@ module fast_ctrl #(
     );
     always @(posedge clk) {s0, u0} <= back;
 
-    // Static checks: the round trip fits the ring.
+    // Static checks: the round trip fits the ring; the address placements
+    // above hold for isa.vh's layout.
+    localparam integer SPH_LAST = `ISA_REG_SPH0_C + (SPH_N - 1) * `ISA_DIM_SPH_STRIDE;
+    localparam integer PLN_LAST = `ISA_REG_PLN0_N + (PLN_N - 1) * `ISA_DIM_PLN_STRIDE;
+    generate
+        if (`ISA_DIM_SPH_STRIDE != 4 || `ISA_DIM_PLN_STRIDE != 4 || (`ISA_REG_SPH0_C % 32) != 0 ||
+            (`ISA_REG_PLN0_N % 32) != 0 || SPH_LAST >= `ISA_REG_SPH0_C + 32 ||
+            PLN_LAST >= `ISA_REG_PLN0_N + 32) begin : g_layout_not_placeable
+            isa_layout_breaks_fast_ctrl_address_placement u_error ();
+        end
+    endgenerate
+
     generate
         if (CARRY2 < 0 || CARRY1 < 1) begin : g_ring_too_short
             ring_too_short_for_the_alu_latency u_error ();
