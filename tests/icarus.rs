@@ -20,9 +20,10 @@
 mod common;
 
 use common::icarus::{
-    compile, compile_fast_alu, compile_fast_regfile, compile_fast_units, differences,
-    icarus_present, pix_lines, run_fast_alu, run_fast_regfile, run_fast_units, run_vvp, scene_hex,
-    simulate, vvp_pixels, work_dir, write_scene_hex, SimPixel,
+    compile, compile_fast_alu, compile_fast_pp, compile_fast_regfile, compile_fast_units,
+    differences, fast_differences, icarus_present, pix_lines, run_fast_alu, run_fast_pp,
+    run_fast_regfile, run_fast_units, run_vvp, scene_hex, simulate, vvp_pixels, work_dir,
+    write_scene_hex, SimPixel,
 };
 use common::reduced;
 use golden::fp::Method;
@@ -511,4 +512,144 @@ fn fast_alu_agrees_with_golden_under_icarus() {
             assert_eq!(bad, 1, "{stdout}");
         }
     }
+}
+
+/// A builtin scene at `width` x `height`.
+fn builtin(name: &str, width: u32, height: u32) -> Scene {
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("builtin scene {name}"))
+        .resized(width, height, name)
+        .expect("a smaller image of a valid scene is valid")
+}
+
+/// The pixels of a window, row by row.
+fn window(x: u32, y: u32, width: u32, height: u32) -> Vec<(u32, u32)> {
+    golden::window::Window {
+        x,
+        y,
+        width,
+        height,
+    }
+    .iter()
+    .collect()
+}
+
+/// The fast pixel processor (rtl/fast/fast_pp.v) under Icarus with its
+/// trace port (tests/icarus/fast_pp_tb.v), fed a window of coordinates
+/// every cycle with out_ready high, as the Verilator co-simulation
+/// (tests/fast_pp.rs) feeds it: every pixel's register-file writes (state,
+/// destination, lanes, values) are golden::micro's in order, its colour
+/// bits are golden's, and its context and cycles, and the frame's cycles,
+/// are the barrel rule's for the pixels in the order they were fed. At
+/// 40x30: 48 pixels of the reference scene across its spheres (59 to 231
+/// writes a pixel), and 40 of overexposed, the heaviest part of the mirror
+/// scene (122 to 299 writes a pixel), every pixel through the exposure's
+/// EXP. The checkers fail: a fault planted through the fault port (lane x
+/// of every PRI_HALF write flipped) is a divergence of every pixel at that
+/// write (and changes their colours), and a barrel of 31 contexts predicts
+/// other cycles. The runs go in parallel: Icarus runs this design at under
+/// 2,000 cycles a second.
+#[test]
+fn fast_processor_agrees_with_golden_under_icarus() {
+    if !icarus_present("fast_processor_agrees_with_golden_under_icarus") {
+        return;
+    }
+    use common::icarus::{FastRun, FAST_FRAME_OVERHEAD};
+    use golden::micro::barrel::PixelWork;
+    use golden::micro::isa::state;
+    const CONTEXTS: u32 = 32; // fast_pp's CTX_BITS = 5
+    let cases = [
+        ("reference", window(8, 10, 12, 4), None),
+        ("overexposed", window(12, 15, 8, 5), None),
+        (
+            "reference",
+            window(8, 6, 4, 1),
+            Some((state::PRI_HALF, 1 << 20)),
+        ),
+    ];
+    let start = std::time::Instant::now();
+    let runs: Vec<(Scene, FastRun, f64)> = std::thread::scope(|s| {
+        let threads: Vec<_> = cases
+            .iter()
+            .map(|(name, pixels, fault)| {
+                s.spawn(move || {
+                    let scene = builtin(name, 40, 30);
+                    let tag = if fault.is_some() { "_fault" } else { "" };
+                    let dir = work_dir(&format!("fast_pp_{name}{tag}"));
+                    let vvp = compile_fast_pp(&dir, scene.render.recip, scene.render.sqrt);
+                    let t = std::time::Instant::now();
+                    let run = run_fast_pp(&vvp, &dir, &scene, pixels, *fault);
+                    (scene, run, t.elapsed().as_secs_f64())
+                })
+            })
+            .collect();
+        threads
+            .into_iter()
+            .map(|t| t.join().expect("a vvp run panicked"))
+            .collect()
+    });
+    let mut failures = Vec::new();
+    for ((name, pixels, fault), (scene, run, secs)) in cases.iter().zip(&runs) {
+        let (bad, writes) = fast_differences(scene, run, pixels, CONTEXTS);
+        let golden = golden::micro::Processor::new(scene);
+        let exp_pixels = pixels
+            .iter()
+            .filter(|&&(x, y)| {
+                PixelWork::of(&golden.render_pixel(x, y, |_, _| {}))
+                    .exp_at
+                    .is_some()
+            })
+            .count();
+        println!(
+            "fast_pp under Icarus, {name} 40x30{}: {} pixels ({exp_pixels} with EXP), \
+             {writes} writes compared, {} frame cycles, {} divergences ({secs:.1} s)",
+            if fault.is_some() { " with a fault" } else { "" },
+            run.pixels.len(),
+            run.frame_cycles,
+            bad.len()
+        );
+        if fault.is_some() {
+            // Every pixel's write #1 (PRI_HALF) is hit, and nothing else
+            // breaks before it.
+            let hit = bad
+                .iter()
+                .filter(|b| b.contains("write #1: icarus"))
+                .count();
+            assert_eq!(hit, pixels.len(), "the planted fault:\n{}", bad.join("\n"));
+            assert!(
+                bad.iter().any(|b| b.contains("colour icarus")),
+                "the planted fault:\n{}",
+                bad.join("\n")
+            );
+            println!("  {}", bad.join("\n  "));
+            continue;
+        }
+        if *name == "overexposed" {
+            assert!(scene.render.exposure.is_some() && exp_pixels == pixels.len());
+        }
+        if !bad.is_empty() {
+            failures.push(format!(
+                "{name}: {} divergences:\n{}",
+                bad.len(),
+                bad[..bad.len().min(20)].join("\n")
+            ));
+        }
+        if *name == "reference" {
+            // A barrel of the wrong size predicts other cycles.
+            let (bad, _) = fast_differences(scene, run, pixels, CONTEXTS - 1);
+            assert!(
+                bad.iter().any(|b| b.contains("cycles; barrel")),
+                "{}",
+                bad.join("\n")
+            );
+            assert!(
+                bad.iter().any(|b| b.contains("the frame took")),
+                "{}",
+                bad.join("\n")
+            );
+            assert_eq!(FAST_FRAME_OVERHEAD, 4);
+        }
+    }
+    println!("{:.1} s in all", start.elapsed().as_secs_f64());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -427,3 +427,272 @@ pub fn differences(scene: &Scene, got: &[SimPixel]) -> Vec<String> {
         })
         .collect()
 }
+
+/// Compiles the fast pixel processor (rtl/fast/fast_pp.v, with the
+/// exponential and its trace port: `PP_TRACE`) with
+/// tests/icarus/fast_pp_tb.v for the scene's float methods.
+pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method) -> PathBuf {
+    let (includes, sources) = super::fast_tree();
+    let vvp = dir.join(format!("fast_pp_tb_{recip}_{sqrt}.vvp"));
+    iverilog(
+        &vvp,
+        "fast_pp_tb",
+        &includes,
+        &sources,
+        &["PP_TRACE"],
+        &[("RECIP_METHOD", recip.code()), ("SQRT_METHOD", sqrt.code())],
+    );
+    vvp
+}
+
+/// One pixel as the fast processor gave it under Icarus.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FastPixel {
+    pub x: u32,
+    pub y: u32,
+    /// The context that computed it.
+    pub ctx: u32,
+    /// As [`SimPixel::rgb`].
+    pub rgb: [String; 3],
+    pub cycles: u64,
+    /// Its register-file writes in order, as fast_pp_tb printed them:
+    /// `state dst lanes vx vy vz` (decimal, then hex; x/z where unknown).
+    pub writes: Vec<String>,
+}
+
+/// A frame of the fast processor under Icarus.
+#[derive(Debug, Clone, Default)]
+pub struct FastRun {
+    /// In the order the takes came.
+    pub taken: Vec<(u32, u32)>,
+    /// In the order the results left.
+    pub pixels: Vec<FastPixel>,
+    /// top.cpp's frame_cycles: from the cycle that took the first
+    /// coordinate to the one that gave the last result, both counted.
+    pub frame_cycles: u64,
+    /// Trace lines that break the port's contract (a write tagged with a
+    /// pixel other than its context's, a result of a context with no such
+    /// pixel), as report lines.
+    pub protocol: Vec<String>,
+}
+
+/// Runs fast_pp_tb (`vvp`) on `scene` and `pixels` (written to `dir`),
+/// with the fault port at `fault` (state, xor) if any: every take, write
+/// and result it printed, each write given to its context's pixel.
+pub fn run_fast_pp(
+    vvp: &Path,
+    dir: &Path,
+    scene: &Scene,
+    pixels: &[(u32, u32)],
+    fault: Option<(u16, u32)>,
+) -> FastRun {
+    let scene_file = write_scene_hex(dir, scene);
+    let extra: Vec<String> = fault
+        .map(|(state, xor)| {
+            vec![
+                format!("+fault_state={state}"),
+                format!("+fault_xor={xor:x}"),
+            ]
+        })
+        .unwrap_or_default();
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let stdout = vvp_pixels(
+        vvp,
+        &scene_file,
+        scene_hex(scene).1,
+        &dir.join("pixels.hex"),
+        pixels,
+        &extra,
+    );
+    parse_fast_pp(&stdout)
+}
+
+/// fast_pp_tb's output as a [`FastRun`].
+fn parse_fast_pp(stdout: &str) -> FastRun {
+    /// A pixel taken: coordinates, context, writes, and whether its result
+    /// has left.
+    struct Taken {
+        at: (u32, u32),
+        ctx: u32,
+        writes: Vec<String>,
+        out: bool,
+    }
+    let mut run = FastRun::default();
+    let mut taken: Vec<Taken> = Vec::new();
+    // Per context, the take of its current pixel.
+    let mut current: std::collections::HashMap<u32, usize> = Default::default();
+    let mut frame = None;
+    for line in stdout.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let dec = |s: &str| -> u32 { s.parse().unwrap_or_else(|e| panic!("{line:?}: {e}")) };
+        match f.first().copied() {
+            Some("TAKE") => {
+                assert_eq!(f.len(), 4, "{line:?}");
+                let (ctx, at) = (dec(f[1]), (dec(f[2]), dec(f[3])));
+                current.insert(ctx, taken.len());
+                taken.push(Taken {
+                    at,
+                    ctx,
+                    writes: Vec::new(),
+                    out: false,
+                });
+                run.taken.push(at);
+            }
+            Some("EV") => {
+                assert_eq!(f.len(), 10, "{line:?}");
+                let (ctx, at) = (dec(f[1]), (dec(f[2]), dec(f[3])));
+                match current.get(&ctx).map(|&i| &mut taken[i]) {
+                    Some(t) if t.at == at && !t.out => t.writes.push(f[4..].join(" ")),
+                    _ => run.protocol.push(format!(
+                        "a write of context {ctx} tagged {at:?}, not its current pixel: {line:?}"
+                    )),
+                }
+            }
+            Some("PIX") => {
+                assert_eq!(f.len(), 8, "{line:?}");
+                let (at, ctx) = ((dec(f[1]), dec(f[2])), dec(f[7]));
+                // A context's results leave in the order it took its pixels.
+                let Some(t) = taken.iter_mut().find(|t| t.ctx == ctx && !t.out) else {
+                    run.protocol.push(format!(
+                        "a result of context {ctx}, which has no pixel: {line:?}"
+                    ));
+                    continue;
+                };
+                t.out = true;
+                if t.at != at {
+                    run.protocol.push(format!(
+                        "context {ctx}'s result is tagged {at:?}, its pixel is {:?}",
+                        t.at
+                    ));
+                }
+                run.pixels.push(FastPixel {
+                    x: at.0,
+                    y: at.1,
+                    ctx,
+                    rgb: [f[3], f[4], f[5]].map(str::to_string),
+                    cycles: u64::from(dec(f[6])),
+                    writes: std::mem::take(&mut t.writes),
+                });
+            }
+            Some("FRAME") => frame = f.get(1).map(|s| dec(s)),
+            _ => {}
+        }
+    }
+    run.frame_cycles = u64::from(frame.unwrap_or_else(|| panic!("no FRAME line:\n{stdout}")));
+    run
+}
+
+/// Cycles a frame of the fast processor takes beyond the barrel rule's
+/// (fast_pp.v: one into the coordinate queue, two of the register file's
+/// read, one into the result queue).
+pub const FAST_FRAME_OVERHEAD: u64 = 4;
+
+/// Where a frame of the fast processor under Icarus differs from golden,
+/// for `pixels` fed in that order (each once) and a barrel of `contexts`:
+/// the takes' order, each pixel's writes in order (state, destination,
+/// lanes, values) and colour bits against `golden::micro`'s, and each
+/// pixel's context and cycles and the frame's cycles against the barrel
+/// rule's. The report lines, and the number of writes compared.
+pub fn fast_differences(
+    scene: &Scene,
+    run: &FastRun,
+    pixels: &[(u32, u32)],
+    contexts: u32,
+) -> (Vec<String>, usize) {
+    use golden::micro::barrel::{self, PixelWork};
+    use golden::micro::isa::state_label;
+    let golden = Processor::new(scene);
+    let mut bad = run.protocol.clone();
+    if run.taken != pixels {
+        bad.push(format!(
+            "takes {:?}, fed {pixels:?}",
+            &run.taken[..run.taken.len().min(8)]
+        ));
+    }
+    let mut back: Vec<(u32, u32)> = run.pixels.iter().map(|p| (p.x, p.y)).collect();
+    back.sort_unstable();
+    let mut want: Vec<(u32, u32)> = pixels.to_vec();
+    want.sort_unstable();
+    if back != want {
+        bad.push(format!(
+            "{} results for {} pixels fed: not each pixel once",
+            back.len(),
+            want.len()
+        ));
+    }
+    let mut compared = 0;
+    let mut work = Vec::new();
+    for &(x, y) in pixels {
+        let mut events = Vec::new();
+        let result = golden.render_pixel(x, y, |e, _| events.push(*e));
+        work.push(PixelWork::of(&result));
+        let Some(p) = run.pixels.iter().find(|p| (p.x, p.y) == (x, y)) else {
+            continue;
+        };
+        let expected: Vec<String> = events
+            .iter()
+            .map(|e| {
+                let [a, b, c] = e.values;
+                format!("{} {} {} {a:08x} {b:08x} {c:08x}", e.state, e.dst, e.lanes)
+            })
+            .collect();
+        let common = p.writes.len().min(expected.len());
+        let first_bad = (0..common).find(|&i| p.writes[i] != expected[i]);
+        compared += first_bad.map_or(common, |i| i + 1);
+        if let Some(i) = first_bad {
+            bad.push(format!(
+                "({x}, {y}): write #{i}: icarus {}, golden {} ({})",
+                p.writes[i],
+                expected[i],
+                state_label(events[i].state)
+            ));
+        } else if p.writes.len() != expected.len() {
+            bad.push(format!(
+                "({x}, {y}): {} writes, golden {}",
+                p.writes.len(),
+                expected.len()
+            ));
+        }
+        let rgb = result.rgb.map(|c| format!("{:08x}", c.to_bits()));
+        if rgb != p.rgb {
+            bad.push(format!(
+                "({x}, {y}): colour icarus {}, golden {}",
+                p.rgb.join(" "),
+                rgb.join(" ")
+            ));
+        }
+    }
+    // The barrel rule for the pixels in the order they were fed; contexts
+    // numbered from the one that took the first pixel.
+    let barrel = barrel::run(contexts, &work);
+    let first = run
+        .pixels
+        .iter()
+        .find(|p| (p.x, p.y) == pixels[0])
+        .map_or(0, |p| p.ctx);
+    let k = 1 << 5; // fast_pp's CTX_BITS
+    for p in &run.pixels {
+        let Some(i) = pixels.iter().position(|&c| c == (p.x, p.y)) else {
+            continue;
+        };
+        let w = barrel.pixels[i];
+        let context = (p.ctx + k - first) % k;
+        if (p.cycles, context) != (w.cycles(), w.context) {
+            bad.push(format!(
+                "({}, {}): context {context}, {} cycles; barrel: context {}, {} cycles",
+                p.x,
+                p.y,
+                p.cycles,
+                w.context,
+                w.cycles()
+            ));
+        }
+    }
+    if run.frame_cycles != barrel.cycles + FAST_FRAME_OVERHEAD {
+        bad.push(format!(
+            "the frame took {} cycles; barrel {} + {FAST_FRAME_OVERHEAD}",
+            run.frame_cycles, barrel.cycles
+        ));
+    }
+    (bad, compared)
+}
