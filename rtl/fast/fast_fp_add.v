@@ -10,9 +10,11 @@
 // y appears 10 clock edges after a and b; a new pair may enter every cycle.
 //
 //   1. classify a and b (exponent all ones, fraction zero); order them by
-//      magnitude (a 31-bit compare)
-//   2. swap into big and small; the exponent difference and the shift; the
-//      special result (NaN, infinity), which depends on the inputs only
+//      magnitude (a 31-bit compare); both exponent differences, a - b and
+//      b - a (the effective exponents: 1 for a subnormal)
+//   2. swap into big and small; the shift (the difference the order picks,
+//      clamped); the special result (NaN, infinity), which depends on the
+//      inputs only
 //   3. align the small significand, with the sticky of what falls out
 //   4. add or subtract (28 bits)
 //   5, 6, 7. normalize (fast_fp_norm); an exact zero sum becomes +-0
@@ -37,6 +39,13 @@ module fast_fp_add (
     reg        s1_a_ge_b, s1_a_sign, s1_b_sign;
     reg        s1_a_ff, s1_b_ff, s1_a_nz, s1_b_nz;  // exponent all ones, fraction not zero
     reg [30:0] s1_a_mag, s1_b_mag;
+    reg [7:0]  s1_d_ab, s1_d_ba;                    // the effective exponents' differences
+
+    // Subnormals have no implicit one but share the exponent of 2^-126 with
+    // the smallest normals, hence effective exponent 1.
+    function [7:0] exp_eff(input [7:0] e);
+        exp_eff = {e[7:1], e[0] | (e == 8'd0)};
+    endfunction
 
     always @(posedge clk) begin
         // For binary32 the unsigned order of {exponent, fraction} is the
@@ -52,6 +61,9 @@ module fast_fp_add (
         s1_b_ff   <= (b[30:23] == EXP_SPECIAL);
         s1_a_nz   <= |a[22:0];
         s1_b_nz   <= |b[22:0];
+        // Both, beside the order: stage 2 picks the one that is >= 0.
+        s1_d_ab   <= exp_eff(a[30:23]) - exp_eff(b[30:23]);
+        s1_d_ba   <= exp_eff(b[30:23]) - exp_eff(a[30:23]);
     end
 
     wire s1_a_nan = s1_a_ff & s1_a_nz;
@@ -62,15 +74,11 @@ module fast_fp_add (
     // ------------------------------------------------------------------------
     // Stage 2: swap; the exponent difference
     // ------------------------------------------------------------------------
-    // Subnormals have no implicit one but share the exponent of 2^-126 with
-    // the smallest normals, hence effective exponent 1.
     wire [30:0] big_mag       = s1_a_ge_b ? s1_a_mag : s1_b_mag;
     wire [30:0] small_mag     = s1_a_ge_b ? s1_b_mag : s1_a_mag;
     wire        big_hidden    = |big_mag[30:23];
     wire        small_hidden  = |small_mag[30:23];
-    wire [7:0]  big_exp_eff   = big_hidden   ? big_mag[30:23]   : 8'd1;
-    wire [7:0]  small_exp_eff = small_hidden ? small_mag[30:23] : 8'd1;
-    wire [7:0]  exp_diff      = big_exp_eff - small_exp_eff;
+    wire [7:0]  exp_diff      = s1_a_ge_b ? s1_d_ab : s1_d_ba;
 
     reg        s2_big_sign, s2_eff_sub, s2_small_hidden, s2_special;
     reg [4:0]  s2_shift;
@@ -83,7 +91,7 @@ module fast_fp_add (
         s2_big_sign     <= s1_a_ge_b ? s1_a_sign : s1_b_sign;
         s2_eff_sub      <= s1_a_sign ^ s1_b_sign;
         s2_shift        <= (exp_diff > ALIGN_LIMIT) ? ALIGN_MAX : exp_diff[4:0];
-        s2_big_exp      <= big_exp_eff;
+        s2_big_exp      <= exp_eff(big_mag[30:23]);
         s2_big_sig      <= {big_hidden, big_mag[22:0]};
         s2_small_hidden <= small_hidden;
         s2_small_frac   <= small_mag[22:0];
