@@ -576,7 +576,88 @@ fn bad_stall_values_are_refused_with_exit_2() {
         ),
         (
             &["--stall", "50"],
-            "the following required arguments were not provided:\n  --procs <N>",
+            "--stall holds back a result stream: it needs --procs or --processor fast",
+        ),
+    ];
+    for (args, message) in cases {
+        let mut all = vec!["cosim", "--size", "40x30", "--window", "0,0"];
+        all.extend(args);
+        common::assert_refused(&all, &[message]);
+    }
+}
+
+/// The fast processor through the binary: a window agrees in events,
+/// colours and cycles, the report names the processor and says the frame
+/// took the cycles the barrel rule predicts; an injected fault fails the
+/// run; and the choices it cannot take are refused, naming why.
+#[test]
+fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "4,4,23,11",
+        "--processor",
+        "fast",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout
+            .lines()
+            .next()
+            .is_some_and(|l| l.starts_with("rtcosim cosim: fast processor, ")
+                && l.contains(", 32 contexts, ")),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("fast pixel processor (recip exact, sqrt exact)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("as the barrel rule predicts"), "{stdout}");
+    assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+    assert!(number_in(&stdout, "events:", " compared") > 0, "{stdout}");
+    assert!(stdout.contains("PASS: "), "{stdout}");
+
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "4,4,7,5",
+        "--processor",
+        "fast",
+        "--fault",
+        "PRI_HALF:0x400",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    assert!(
+        text(&out.stdout).contains("FAIL: 8 of 8 pixels diverge"),
+        "{}",
+        both(&out)
+    );
+
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--processor", "fastest"],
+            "invalid value 'fastest' for '--processor <PROCESSOR>'",
+        ),
+        (
+            &["--processor", "fast", "--procs", "4"],
+            "--procs drives rtl/top.v, whose processors are compact ones",
+        ),
+        (
+            &["--processor", "fast", "--trace", "t.trace"],
+            "the fast processor has no traced or FST model yet",
+        ),
+        (
+            &["--processor", "fast", "--wave", "5"],
+            "the fast processor has no traced or FST model yet",
+        ),
+        (
+            &["--processor", "fast", "--coverage", "cov"],
+            "--processor fast have no coverage model",
         ),
     ];
     for (args, message) in cases {

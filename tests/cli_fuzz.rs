@@ -168,3 +168,46 @@ fn bad_first_values_are_refused_with_exit_2() {
     assert!(!failures.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `fuzz --processor fast`: the campaign runs on the fast processor (the
+/// header says so) and passes; with a fault injected every accepted scene
+/// fails; a bad processor is refused naming the choices.
+#[test]
+fn fuzz_runs_on_the_fast_processor() {
+    let dir = scratch("cli_fuzz", "fast");
+    let failures = dir.join("failures");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "fuzz",
+            "--seed",
+            "3",
+            "--count",
+            "12",
+            "--processor",
+            "fast",
+        ];
+        args.extend(["--failures", arg(&failures)]);
+        args.extend(extra);
+        rtcosim(&args)
+    };
+    let out = run(&[]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout
+            .lines()
+            .next()
+            .is_some_and(|l| l.contains(", fast processor, ")),
+        "{stdout}"
+    );
+    assert!(stdout.contains("0 divergent pixels"), "{stdout}");
+    let out = run(&["--fault", "PRI_HALF:0x400"]);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    assert_refused(
+        &["fuzz", "--count", "1", "--processor", "slow"],
+        &[
+            "invalid value 'slow' for '--processor <PROCESSOR>'",
+            "[possible values: compact, fast]",
+        ],
+    );
+}
