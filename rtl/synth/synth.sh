@@ -15,6 +15,11 @@
 #                                          # registered at both ends; for ecp5 behind 32-bit
 #                                          # ports, tests/synth/alu_pins.v); a 4th argument
 #                                          # noexp builds it without fp_exp (EXPOSURE = 0)
+#   rtl/synth/synth.sh xc6v fast-pp exact  # the fast pixel processor (rtl/fast/fast_pp.v:
+#                                          # fast_ctrl, fast_regfile, fast_alu; its ports
+#                                          # as they are, 293 bits, which fit the ECP5
+#                                          # package pnr_ecp5.sh uses); a 4th argument
+#                                          # noexp builds it without fp_exp (EXPOSURE = 0)
 #   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
 #                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
@@ -33,7 +38,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-regfile|ctrl exact|fast [N|noexp]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast [N|noexp]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -103,6 +108,18 @@ fast-alu)
         top=alu_pins
         read="$read tests/synth/alu_pins.v"
     fi
+    params="$params -chparam EXPOSURE $exposure"
+    ;;
+fast-pp)
+    case $n in
+    "") exposure=1 out=$device-fast-pp-$methods ;;
+    noexp) exposure=0 out=$device-fast-pp-$methods-noexp ;;
+    *) echo "$0: the processor's 4th argument is noexp or nothing, not '$n'" >&2; exit 2 ;;
+    esac
+    top=fast_pp
+    # STACK_DEPTH and CTX_BITS (5: 32 contexts) are the RTL's defaults. No
+    # wrapper for ecp5: the 293 port bits fit the package's 365 I/O.
+    read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/pp/mem_ctrl.v rtl/fast/*.v)"
     params="$params -chparam EXPOSURE $exposure"
     ;;
 fast-regfile)
