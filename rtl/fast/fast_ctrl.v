@@ -38,10 +38,9 @@
 //            flags (cond = inv ^ |(y_neg & mn | y_pos & mp)), and which
 //            flags the state latches (direction, facing, cut)
 //   6  (P3)  the candidates, whole
-//   7, 8     (P4) each candidate's micro-op, logical addresses (two
-//            halves by the state id's top bit, then the pick)
-//   9  (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
-//   10 .. LAT+2         carried (shift registers)
+//   7  (P4)  each candidate's micro-op, logical addresses
+//   8  (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
+//   9 .. LAT+2          carried (shift registers)
 //   LAT+2    (C1)  the flags arrive: the condition, the latches, and for
 //            NORM_SCALE the planes the fresh direction leaves open (the
 //            fast plane test) and BOX_FAR's corner
@@ -109,7 +108,7 @@ module fast_ctrl #(
 
     // Positions of the ring (see the header).
     localparam integer POS_C1 = LATENCY + 2;
-    localparam integer CARRY1 = POS_C1 - 9;          // positions 10 .. LAT+2
+    localparam integer CARRY1 = POS_C1 - 8;          // positions 9 .. LAT+2
     localparam integer CARRY2 = K - (LATENCY + 4);   // positions LAT+4 .. K-1
 
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
@@ -1238,38 +1237,15 @@ module fast_ctrl #(
     wire [CODE_W-1:0] code_c = {mn_c, mp_c, inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c,
                                 box_corner_c, pln_open_c};
 
-    // P4 in two steps, by the top bit of the state id (a Shannon expansion:
-    // micro_op(s) is micro_op(s with the bit 0) or micro_op(s with it 1),
-    // each of one input fewer), then the pick.
-    localparam integer ST_TOP = J_ST + 6;   // ids < 128
-    function [SWD-1:0] with_top(input [SWD-1:0] st_s, input bit_v);
-        begin
-            with_top         = st_s;
-            with_top[ST_TOP] = bit_v;
-        end
-    endfunction
-    reg [SWD-1:0]    a0_h, a1_h;
-    reg [UW-1:0]     l0_lo, l0_hi, l1_lo, l1_hi;
-    reg [CODE_W-1:0] code_h;
-    always @(posedge clk) begin
-        a0_h   <= a0_c;
-        a1_h   <= a1_c;
-        l0_lo  <= micro_op(with_top(a0_c, 1'b0));
-        l0_hi  <= micro_op(with_top(a0_c, 1'b1));
-        l1_lo  <= micro_op(with_top(a1_c, 1'b0));
-        l1_hi  <= micro_op(with_top(a1_c, 1'b1));
-        code_h <= code_c;
-    end
-
     reg [SWD-1:0]    a0_u, a1_u;
     reg [UW-1:0]     l0_u, l1_u;
     reg [CODE_W-1:0] code_u;
     always @(posedge clk) begin
-        a0_u   <= a0_h;
-        a1_u   <= a1_h;
-        l0_u   <= a0_h[ST_TOP] ? l0_hi : l0_lo;
-        l1_u   <= a1_h[ST_TOP] ? l1_hi : l1_lo;
-        code_u <= code_h;
+        a0_u   <= a0_c;
+        a1_u   <= a1_c;
+        l0_u   <= micro_op(a0_c);
+        l1_u   <= micro_op(a1_c);
+        code_u <= code_c;
     end
 
     wire [RW-1:0] p0_a, p0_b, p0_w, p1_a, p1_b, p1_w;
@@ -1301,7 +1277,7 @@ module fast_ctrl #(
                code_u};
 
     // ------------------------------------------------------------------------
-    // Carried to C1 (positions 10 .. LAT+2)
+    // Carried to C1 (positions 9 .. LAT+2)
     // ------------------------------------------------------------------------
     wire [BW-1:0] bc;
     fast_delay #(.WIDTH(BW), .STAGES(CARRY1)) u_carry1 (.clk(clk), .d(b_p), .q(bc));
