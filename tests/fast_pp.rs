@@ -15,17 +15,14 @@ use golden::trace::TraceEvent;
 use golden::window::Window;
 use rtcosim::top::{Source, Top, FAST_CONTEXTS};
 
+mod common;
+
+use common::{builtin, window};
+
 /// Cycles a frame takes beyond the barrel rule's (fast_pp.v: one into the
 /// coordinate queue, two of the register file's read, one into the result
 /// queue).
 const FRAME_OVERHEAD: u64 = 4;
-
-fn builtin(name: &str, width: u32, height: u32) -> Scene {
-    Scene::builtin(name)
-        .unwrap_or_else(|| panic!("builtin scene {name}"))
-        .resized(width, height, name)
-        .expect("a smaller image of a valid scene is valid")
-}
 
 /// What differs between a pixel's writes in the RTL and golden's, if anything.
 fn pixel_diff(rtl: &[TraceEvent], golden: &[TraceEvent]) -> Option<String> {
@@ -104,17 +101,6 @@ fn assert_exact(bad: &[String]) {
         bad.len(),
         bad[..bad.len().min(20)].join("\n")
     );
-}
-
-fn window(x: u32, y: u32, width: u32, height: u32) -> Vec<(u32, u32)> {
-    Window {
-        x,
-        y,
-        width,
-        height,
-    }
-    .iter()
-    .collect()
 }
 
 #[test]

@@ -25,7 +25,7 @@ use common::icarus::{
     run_fast_regfile, run_fast_units, run_vvp, scene_hex, simulate, vvp_pixels, work_dir,
     write_scene_hex, SimPixel,
 };
-use common::reduced;
+use common::{builtin, reduced, window};
 use golden::fp::Method;
 use golden::scene::Scene;
 
@@ -512,26 +512,6 @@ fn fast_alu_agrees_with_golden_under_icarus() {
             assert_eq!(bad, 1, "{stdout}");
         }
     }
-}
-
-/// A builtin scene at `width` x `height`.
-fn builtin(name: &str, width: u32, height: u32) -> Scene {
-    Scene::builtin(name)
-        .unwrap_or_else(|| panic!("builtin scene {name}"))
-        .resized(width, height, name)
-        .expect("a smaller image of a valid scene is valid")
-}
-
-/// The pixels of a window, row by row.
-fn window(x: u32, y: u32, width: u32, height: u32) -> Vec<(u32, u32)> {
-    golden::window::Window {
-        x,
-        y,
-        width,
-        height,
-    }
-    .iter()
-    .collect()
 }
 
 /// The fast pixel processor (rtl/fast/fast_pp.v) under Icarus with its

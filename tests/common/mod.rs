@@ -43,6 +43,26 @@ fn rtl_files(dirs: &[&str], with_top: bool) -> (Vec<PathBuf>, Vec<PathBuf>) {
     (dirs, files)
 }
 
+/// A builtin scene at `width` x `height`.
+pub fn builtin(name: &str, width: u32, height: u32) -> Scene {
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("builtin scene {name}"))
+        .resized(width, height, name)
+        .expect("a smaller image of a valid scene is valid")
+}
+
+/// The pixels of a window, row by row.
+pub fn window(x: u32, y: u32, width: u32, height: u32) -> Vec<(u32, u32)> {
+    golden::window::Window {
+        x,
+        y,
+        width,
+        height,
+    }
+    .iter()
+    .collect()
+}
+
 /// A builtin scene at the reduced size the RTL tests run it at (whole
 /// frames in seconds, every silhouette, shadow edge and horizon in):
 /// grazing at 96x72, light_touch at 64x48, box_room (about 1,400 cycles a
@@ -54,10 +74,7 @@ pub fn reduced(name: &str) -> Scene {
         "box_room" => (40, 30),
         _ => (80, 60),
     };
-    Scene::builtin(name)
-        .unwrap_or_else(|| panic!("builtin scene {name}"))
-        .resized(w, h, name)
-        .expect("a smaller image of a valid scene is valid")
+    builtin(name, w, h)
 }
 
 /// The weight cutoff of [`mirror_with_cutoff`]: every object of the mirror
