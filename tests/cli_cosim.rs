@@ -58,7 +58,7 @@ fn a_small_reference_frame_agrees() {
     let stdout = text(&out.stdout);
     let header = stdout.lines().next().expect("a header");
     for field in [
-        "rtcosim cosim: scene reference (40x30",
+        "rtcosim cosim: compact processor, scene reference (40x30",
         "window 0,0,39,29 (1200 pixels)",
         "recip exact, sqrt exact",
         "Verilator ",
