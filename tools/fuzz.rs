@@ -93,7 +93,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim fuzz: {} scene{} from index {}, seed {}{}, {} processor, {threads} thread{}, {}",
+        "rtcosim fuzz: {} scene{} from index {}, seed {}{}{}, {threads} thread{}, {}",
         args.count,
         plural(args.count),
         args.first,
@@ -102,7 +102,12 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
             ", shard {s} ({} scenes)",
             indices.len()
         )),
-        args.processor,
+        // The default, the compact processor, goes unnamed.
+        if args.processor == ProcessorKind::Fast {
+            ", fast processor"
+        } else {
+            ""
+        },
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
