@@ -38,9 +38,12 @@
 //            flags (cond = inv ^ |(y_neg & mn | y_pos & mp)), and which
 //            flags the state latches (direction, facing, cut)
 //   6  (P3)  the candidates, whole
-//   7  (P4)  each candidate's micro-op, logical addresses
-//   8  (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
-//   9 .. LAT+2          carried (shift registers)
+//   7  (P4a) each candidate's plan (opcode, mask, and per address field
+//            its register or a code naming its operand source) and its
+//            operand sources
+//   8  (P4b) each candidate's micro-op, logical addresses: the picks
+//   9  (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
+//   10 .. LAT+2         carried (shift registers)
 //   LAT+2    (C1)  the flags arrive: the condition, the latches, and for
 //            NORM_SCALE the planes the fresh direction leaves open (the
 //            fast plane test) and BOX_FAR's corner
@@ -108,7 +111,7 @@ module fast_ctrl #(
 
     // Positions of the ring (see the header).
     localparam integer POS_C1 = LATENCY + 2;
-    localparam integer CARRY1 = POS_C1 - 8;          // positions 9 .. LAT+2
+    localparam integer CARRY1 = POS_C1 - 9;          // positions 10 .. LAT+2
     localparam integer CARRY2 = K - (LATENCY + 4);   // positions LAT+4 .. K-1
 
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
@@ -409,77 +412,80 @@ module fast_ctrl #(
         endcase
     endfunction
 
-    // The micro-op of state s (pp_ctrl's instruction of each state), with
-    // logical addresses.
-    function [UW-1:0] micro_op(input [SWD-1:0] s);
-        reg [SW-1:0]    st;
-        reg [RAW-1:0]   rot;
-        reg [CALLW-1:0] call;
-        reg             ctx, kind, found, okind, push;
-        reg [OW-1:0]    idx, oidx;
-        reg [LN-1:0]    dsign;
+    // The micro-op of a state (pp_ctrl's instruction of each state), with
+    // logical addresses, in two steps, so that no path both decodes the
+    // state and picks an operand:
+    //   P4a  plan(st, call, rot): the opcode, the lane mask, and per address field
+    //        either its register (a constant of the state and the call)
+    //        or which operand source it reads (a code); operands(s): the
+    //        sources, every address that depends on more of S (the
+    //        object, the level, the context, the direction), each a small
+    //        function of a few bits;
+    //   P4b  micro_op: each field its constant (code 0) or its source.
+    // The sources of each field, by code (0: the constant).
+    localparam integer SELW = 4, WSELW = 3;
+    localparam [SELW-1:0]  A_CONST = 0, A_ROT_S = 1, A_OBJ_N = 2, A_OBJ_MAT = 3, A_OBJ_COL = 4,
+                           A_SHADE_O = 5, A_SHADE_D = 6, A_SHADE_P = 7, A_SHADE_R = 8,
+                           A_SEARCH_O = 9, A_SEARCH_D = 10, A_ISECT_1 = 11, A_ISECT_4 = 12,
+                           A_CORNER_NEAR = 13, A_CORNER_FAR = 14, A_COLOUR = 15;
+    localparam integer A_N = 16;
+    localparam [SELW-1:0]  B_CONST = 0, B_ROT_C = 1, B_OBJ_N = 2, B_OBJ_MAT = 3, B_SHADE_P = 4,
+                           B_SHADE_W = 5, B_SEARCH_O = 6, B_SEARCH_D = 7, B_ISECT_N = 8,
+                           B_SPH_C = 9, B_OBJ_SPH_C = 10, B_OBJ_SPH_R = 11, B_BEST_MAT = 12,
+                           B_BEST_CUT = 13;
+    localparam integer B_N = 14;
+    localparam [WSELW-1:0] W_CONST = 0, W_U_DST = 1, W_SHADE_P = 2, W_SHADE_R = 3, W_SHADE_COL = 4;
+    localparam integer W_N = 5;
+    // A plan: {op, mask, a code, a register, b code, b register, w code, w register}.
+    localparam integer PL_W   = 0;
+    localparam integer PL_WS  = PL_W + RW;
+    localparam integer PL_B   = PL_WS + WSELW;
+    localparam integer PL_BS  = PL_B + RW;
+    localparam integer PL_A   = PL_BS + SELW;
+    localparam integer PL_AS  = PL_A + RW;
+    localparam integer PL_M   = PL_AS + SELW;
+    localparam integer PL_OP  = PL_M + LN;
+    localparam integer PLW    = PL_OP + OPW;
+    // The operand sources: {w's codes W_N-1 .. 1, b's B_N-1 .. 1, a's A_N-1 .. 1}.
+    localparam integer SRC_A  = 0;
+    localparam integer SRC_B  = SRC_A + (A_N - 1) * RW;
+    localparam integer SRC_W  = SRC_B + (B_N - 1) * RW;
+    localparam integer SRCW   = SRC_W + (W_N - 1) * RW;
+
+    function [PLW-1:0] plan(input [SW-1:0] st, input [CALLW-1:0] call, input [RAW-1:0] rot);
         reg [OPW-1:0]   o;
         reg [RW-1:0]    a, b, w;
-        reg [LN-1:0]    m;
-        reg [RW-1:0]    shading_o, shading_d, shading_col, shading_w, shading_p, shading_r;
-        reg [RW-1:0]    search_o, search_d, obj_n, obj_mat, obj_col, u_dst, rot_s;
-        reg [LN-1:0]    rot_u, rot_v;
+        reg [SELW-1:0]  as, bs;
+        reg [WSELW-1:0] ws;
+        reg [LN-1:0]    m, rot_u, rot_v;
         begin
-            st    = s[J_ST +: SW];
-            rot   = s[S_ROT +: RAW];
-            call  = s[J_CALL +: CALLW];
-            ctx   = s[S_CTX];
-            kind  = s[J_KIND];
-            idx   = s[J_IDX +: OW];
-            found = s[S_FOUND];
-            okind = s[S_OKIND];
-            oidx  = s[S_OIDX +: OW];
-            push  = s[S_PUSH];
-            dsign = s[S_DSIGN +: LN];
+            rot_u = rot == 0 ? M_Y : rot == 1 ? M_Z : M_X;
+            rot_v = rot == 0 ? M_Z : rot == 1 ? M_X : M_Y;
 
-            shading_o   = push ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
-            shading_d   = push ? `ISA_REG_PAR_D : `ISA_REG_CUR_D;
-            shading_col = push ? `ISA_REG_PAR_COL : `ISA_REG_CUR_COL;
-            shading_w   = push ? `ISA_REG_PAR_W : `ISA_REG_CUR_W;
-            shading_p   = push ? `ISA_REG_CUR_O : T_P;
-            shading_r   = push ? `ISA_REG_CUR_D : T_R;
-            search_o    = ctx == C_HIT ? `ISA_REG_CUR_O : shading_p;
-            search_d    = ctx == C_HIT ? `ISA_REG_CUR_D : T_L;
-            obj_n       = okind == K_SPH ? T_N
-                                         : plane(oidx, `ISA_REG_PLN0_N);
-            obj_mat     = okind == K_SPH ? sphere(oidx, `ISA_REG_SPH0_MAT)
-                                         : plane(oidx, `ISA_REG_PLN0_MAT);
-            obj_col     = okind == K_SPH ? sphere(oidx, `ISA_REG_SPH0_COL)
-                                         : plane(oidx, `ISA_REG_PLN0_COL);
-            u_dst       = (ctx == C_HIT && !found) ? T_BEST : T_U;
-            rot_u       = rot == 0 ? M_Y : rot == 1 ? M_Z : M_X;
-            rot_v       = rot == 0 ? M_Z : rot == 1 ? M_X : M_Y;
-            rot_s       = rot_reg(rot, `ISA_REG_ROT0_S);
-
-            o = `ISA_OP_NOP;
-            a = `ISA_REG_ZERO;
-            b = `ISA_REG_ZERO;
-            w = `ISA_REG_ZERO;
-            m = M_XYZ;
+            o  = `ISA_OP_NOP;
+            a  = `ISA_REG_ZERO;
+            b  = `ISA_REG_ZERO;
+            w  = `ISA_REG_ZERO;
+            as = A_CONST;
+            bs = B_CONST;
+            ws = W_CONST;
+            m  = M_XYZ;
             case (st)
                 `ISA_ST_PRI_ITOF:  begin o = `ISA_OP_ITOF; w = T_P; end
                 `ISA_ST_PRI_HALF:  begin o = `ISA_OP_ADD; w = T_P; a = T_P; b = `ISA_REG_CAM_HALF; end
-                `ISA_ST_ROT_COS:   begin
-                    o = `ISA_OP_MUL; w = T_N; a = T_P;
-                    b = rot_reg(rot, `ISA_REG_ROT0_C);
-                end
-                `ISA_ST_ROT_SIN_U: begin o = `ISA_OP_MULR1; w = T_R; a = rot_s; b = T_P; m = rot_u; end
-                `ISA_ST_ROT_SIN_V: begin o = `ISA_OP_MULR2; w = T_R; a = rot_s; b = T_P; m = rot_v; end
+                `ISA_ST_ROT_COS:   begin o = `ISA_OP_MUL; w = T_N; a = T_P; bs = B_ROT_C; end
+                `ISA_ST_ROT_SIN_U: begin o = `ISA_OP_MULR1; w = T_R; as = A_ROT_S; b = T_P; m = rot_u; end
+                `ISA_ST_ROT_SIN_V: begin o = `ISA_OP_MULR2; w = T_R; as = A_ROT_S; b = T_P; m = rot_v; end
                 `ISA_ST_ROT_ADD:   begin o = `ISA_OP_ADD; w = T_P; a = T_N; b = T_R; m = rot_u | rot_v; end
                 `ISA_ST_DOT_1: begin
                     o = `ISA_OP_DOT1;
                     case (call)
                         D_PRIMARY: begin a = T_P; b = T_P; end
                         D_LIGHT:   begin a = T_R; b = T_R; end
-                        D_SPHERE:  begin a = T_V; b = search_d; end
-                        D_DIFFUSE: begin a = obj_n; b = T_L; end
-                        D_REFLECT: begin a = shading_d; b = obj_n; end
-                        default:   begin a = shading_r; b = T_L; end
+                        D_SPHERE:  begin a = T_V; bs = B_SEARCH_D; end
+                        D_DIFFUSE: begin as = A_OBJ_N; b = T_L; end
+                        D_REFLECT: begin as = A_SHADE_D; bs = B_OBJ_N; end
+                        default:   begin as = A_SHADE_R; b = T_L; end
                     endcase
                 end
                 `ISA_ST_DOT_2: o = `ISA_OP_DOT2;
@@ -499,90 +505,51 @@ module fast_ctrl #(
                     a = call == D_PRIMARY ? T_P : T_R;
                     b = T_INV;
                 end
-                `ISA_ST_ISECT_1: begin
-                    o = `ISA_OP_ISECT1;
-                    a = kind == K_SPH ? T_V : search_o;
-                    b = kind == K_SPH ? T_V : plane(idx, `ISA_REG_PLN0_N);
-                end
-                `ISA_ST_ISECT_2: begin
-                    o = `ISA_OP_ISECT2; w = T_G; a = search_d;
-                    b = kind == K_SPH ? T_V : plane(idx, `ISA_REG_PLN0_N);
-                end
-                `ISA_ST_ISECT_3: begin o = `ISA_OP_ISECT3; a = T_G; end
-                `ISA_ST_ISECT_4: begin
-                    o = `ISA_OP_ISECT4; w = T_S;
-                    a = kind == K_SPH ? sphere(idx, `ISA_REG_SPH0_R)
-                                      : plane(idx, `ISA_REG_PLN0_Q);
-                end
-                `ISA_ST_BOX_FAR:    begin
-                    o = `ISA_OP_SUB; w = T_G; b = search_o;
-                    a = corner(~dsign);
-                end
-                `ISA_ST_BOX_BEHIND: begin o = `ISA_OP_MUL; w = T_S; a = T_G; b = search_d; end
-                `ISA_ST_BOX_NEAR:   begin
-                    o = `ISA_OP_SUB; w = T_V; b = search_o;
-                    a = corner(dsign);
-                end
-                `ISA_ST_BOX_P1: begin o = `ISA_OP_MULR1; w = T_Q; a = T_V; b = search_d; end
-                `ISA_ST_BOX_Q1: begin o = `ISA_OP_MULR1; w = T_U; a = search_d; b = T_G; end
-                `ISA_ST_BOX_D1: begin o = `ISA_OP_SUB; w = T_Q; a = T_Q; b = T_U; end
-                `ISA_ST_BOX_P2: begin o = `ISA_OP_MULR2; w = T_Q; a = T_V; b = search_d; end
-                `ISA_ST_BOX_Q2: begin o = `ISA_OP_MULR2; w = T_U; a = search_d; b = T_G; end
-                `ISA_ST_BOX_D2: begin o = `ISA_OP_SUB; w = T_Q; a = T_Q; b = T_U; end
-                `ISA_ST_SPH_V:  begin
-                    o = `ISA_OP_SUB; w = T_V; a = search_o;
-                    b = sphere(idx, `ISA_REG_SPH0_C);
-                end
-                `ISA_ST_SPH_BD:     begin o = `ISA_OP_NMULX; w = T_U; a = search_d; b = T_Q; end
+                `ISA_ST_ISECT_1:    begin o = `ISA_OP_ISECT1; as = A_ISECT_1; bs = B_ISECT_N; end
+                `ISA_ST_ISECT_2:    begin o = `ISA_OP_ISECT2; w = T_G; as = A_SEARCH_D; bs = B_ISECT_N; end
+                `ISA_ST_ISECT_3:    begin o = `ISA_OP_ISECT3; a = T_G; end
+                `ISA_ST_ISECT_4:    begin o = `ISA_OP_ISECT4; w = T_S; as = A_ISECT_4; end
+                `ISA_ST_BOX_FAR:    begin o = `ISA_OP_SUB; w = T_G; bs = B_SEARCH_O; as = A_CORNER_FAR; end
+                `ISA_ST_BOX_BEHIND: begin o = `ISA_OP_MUL; w = T_S; a = T_G; bs = B_SEARCH_D; end
+                `ISA_ST_BOX_NEAR:   begin o = `ISA_OP_SUB; w = T_V; bs = B_SEARCH_O; as = A_CORNER_NEAR; end
+                `ISA_ST_BOX_P1:     begin o = `ISA_OP_MULR1; w = T_Q; a = T_V; bs = B_SEARCH_D; end
+                `ISA_ST_BOX_Q1:     begin o = `ISA_OP_MULR1; w = T_U; as = A_SEARCH_D; b = T_G; end
+                `ISA_ST_BOX_D1:     begin o = `ISA_OP_SUB; w = T_Q; a = T_Q; b = T_U; end
+                `ISA_ST_BOX_P2:     begin o = `ISA_OP_MULR2; w = T_Q; a = T_V; bs = B_SEARCH_D; end
+                `ISA_ST_BOX_Q2:     begin o = `ISA_OP_MULR2; w = T_U; as = A_SEARCH_D; b = T_G; end
+                `ISA_ST_BOX_D2:     begin o = `ISA_OP_SUB; w = T_Q; a = T_Q; b = T_U; end
+                `ISA_ST_SPH_V:      begin o = `ISA_OP_SUB; w = T_V; as = A_SEARCH_O; bs = B_SPH_C; end
+                `ISA_ST_SPH_BD:     begin o = `ISA_OP_NMULX; w = T_U; as = A_SEARCH_D; b = T_Q; end
                 `ISA_ST_SPH_W:      begin o = `ISA_OP_ADD; w = T_V; a = T_V; b = T_U; end
                 `ISA_ST_SPH_SQRT:   begin o = `ISA_OP_SQRT; w = T_S; a = T_S; m = M_X; end
-                `ISA_ST_SPH_T:      begin o = `ISA_OP_ADD; w = u_dst; a = T_S; b = T_Q; m = M_X; end
+                `ISA_ST_SPH_T:      begin o = `ISA_OP_ADD; ws = W_U_DST; a = T_S; b = T_Q; m = M_X; end
                 `ISA_ST_PLN_RECIP:  begin o = `ISA_OP_RECIPY; w = T_Q; a = T_S; m = M_X; end
-                `ISA_ST_PLN_T:      begin o = `ISA_OP_NMULX; w = u_dst; a = T_S; b = T_Q; m = M_X; end
+                `ISA_ST_PLN_T:      begin o = `ISA_OP_NMULX; ws = W_U_DST; a = T_S; b = T_Q; m = M_X; end
                 `ISA_ST_HIT_CMP:    begin o = `ISA_OP_SUB; w = T_G; a = T_U; b = T_BEST; m = M_X; end
                 `ISA_ST_HIT_KEEP:   begin o = `ISA_OP_MOV; w = T_BEST; a = T_U; m = M_X; end
-                `ISA_ST_CUT_W: begin
-                    o = `ISA_OP_MULZ; w = T_U; a = `ISA_REG_CUR_W; m = M_Z;
-                    b = s[S_BKIND] == K_SPH
-                        ? sphere(s[S_BIDX +: OW], `ISA_REG_SPH0_MAT)
-                        : plane(s[S_BIDX +: OW], `ISA_REG_PLN0_MAT);
-                end
-                `ISA_ST_CUT_CMP: begin
-                    o = `ISA_OP_SUB; w = T_G; a = T_U; m = M_Z;
-                    b = s[S_BKIND] == K_SPH
-                        ? sphere(s[S_BIDX +: OW], `ISA_REG_SPH0_R)
-                        : plane(s[S_BIDX +: OW], `ISA_REG_PLN0_Q);
-                end
+                `ISA_ST_CUT_W:      begin o = `ISA_OP_MULZ; w = T_U; a = `ISA_REG_CUR_W; bs = B_BEST_MAT; m = M_Z; end
+                `ISA_ST_CUT_CMP:    begin o = `ISA_OP_SUB; w = T_G; a = T_U; bs = B_BEST_CUT; m = M_Z; end
                 `ISA_ST_SHD_DIST:   begin o = `ISA_OP_ADD; w = T_G; a = T_U; b = T_LEN; m = M_X; end
                 `ISA_ST_SH_OFFSET:  begin o = `ISA_OP_NMULX; w = T_V; a = `ISA_REG_CUR_D; b = T_BEST; end
-                `ISA_ST_SH_POINT:   begin o = `ISA_OP_ADD; w = shading_p; a = shading_o; b = T_V; end
-                `ISA_ST_SH_NORMAL_SUB: begin
-                    o = `ISA_OP_SUB; w = T_N; a = shading_p;
-                    b = sphere(oidx, `ISA_REG_SPH0_C);
-                end
-                `ISA_ST_SH_NORMAL_SCALE: begin
-                    o = `ISA_OP_MULY; w = T_N; a = T_N;
-                    b = sphere(oidx, `ISA_REG_SPH0_R);
-                end
-                `ISA_ST_SH_LIGHT_VEC: begin o = `ISA_OP_SUB; w = T_R; a = `ISA_REG_LIGHT_POS; b = shading_p; end
-                `ISA_ST_SH_KD:       begin o = `ISA_OP_MULX; w = T_G; a = obj_mat; b = T_V; m = M_X; end
-                `ISA_ST_SH_CL:       begin o = `ISA_OP_MUL; w = T_S; a = obj_col; b = `ISA_REG_LIGHT_COL; end
+                `ISA_ST_SH_POINT:   begin o = `ISA_OP_ADD; ws = W_SHADE_P; as = A_SHADE_O; b = T_V; end
+                `ISA_ST_SH_NORMAL_SUB:   begin o = `ISA_OP_SUB; w = T_N; as = A_SHADE_P; bs = B_OBJ_SPH_C; end
+                `ISA_ST_SH_NORMAL_SCALE: begin o = `ISA_OP_MULY; w = T_N; a = T_N; bs = B_OBJ_SPH_R; end
+                `ISA_ST_SH_LIGHT_VEC: begin o = `ISA_OP_SUB; w = T_R; a = `ISA_REG_LIGHT_POS; bs = B_SHADE_P; end
+                `ISA_ST_SH_KD:       begin o = `ISA_OP_MULX; w = T_G; as = A_OBJ_MAT; b = T_V; m = M_X; end
+                `ISA_ST_SH_CL:       begin o = `ISA_OP_MUL; w = T_S; as = A_OBJ_COL; b = `ISA_REG_LIGHT_COL; end
                 `ISA_ST_SH_DIFFUSE:  begin o = `ISA_OP_MULX; w = T_S; a = T_S; b = T_G; end
-                `ISA_ST_SH_REFL_K:   begin o = `ISA_OP_MUL2X; w = T_U; a = obj_n; b = T_Q; end
-                `ISA_ST_SH_REFL:     begin o = `ISA_OP_SUB; w = shading_r; a = shading_d; b = T_U; end
+                `ISA_ST_SH_REFL_K:   begin o = `ISA_OP_MUL2X; w = T_U; as = A_OBJ_N; b = T_Q; end
+                `ISA_ST_SH_REFL:     begin o = `ISA_OP_SUB; ws = W_SHADE_R; as = A_SHADE_D; b = T_U; end
                 `ISA_ST_SH_POW2:     begin o = `ISA_OP_MUL; w = T_U; a = T_Q; b = T_Q; m = M_X; end
                 `ISA_ST_SH_POW4:     begin o = `ISA_OP_MUL; w = T_U; a = T_U; b = T_U; m = M_X; end
                 `ISA_ST_SH_POW5:     begin o = `ISA_OP_MUL; w = T_U; a = T_U; b = T_Q; m = M_X; end
                 `ISA_ST_SH_POW10:    begin o = `ISA_OP_MUL; w = T_U; a = T_U; b = T_U; m = M_X; end
                 `ISA_ST_SH_POW20:    begin o = `ISA_OP_MUL; w = T_U; a = T_U; b = T_U; m = M_X; end
-                `ISA_ST_SH_KS:       begin o = `ISA_OP_MULX; w = T_V; a = obj_mat; b = T_U; m = M_Y; end
+                `ISA_ST_SH_KS:       begin o = `ISA_OP_MULX; w = T_V; as = A_OBJ_MAT; b = T_U; m = M_Y; end
                 `ISA_ST_SH_SPEC:     begin o = `ISA_OP_MULY; w = T_G; a = `ISA_REG_LIGHT_COL; b = T_V; end
                 `ISA_ST_SH_LOCAL:    begin o = `ISA_OP_ADD; w = T_S; a = T_S; b = T_G; end
-                `ISA_ST_SH_COLOUR: begin
-                    o = `ISA_OP_MUL; w = shading_col; b = shading_w;
-                    a = (s[S_SPEC] && !s[S_DIFF]) ? T_G : T_S;
-                end
-                `ISA_ST_SH_CHILD_W: begin o = `ISA_OP_MULZ; w = `ISA_REG_CUR_W; a = `ISA_REG_PAR_W; b = obj_mat; end
+                `ISA_ST_SH_COLOUR:   begin o = `ISA_OP_MUL; ws = W_SHADE_COL; as = A_COLOUR; bs = B_SHADE_W; end
+                `ISA_ST_SH_CHILD_W:  begin o = `ISA_OP_MULZ; w = `ISA_REG_CUR_W; a = `ISA_REG_PAR_W; bs = B_OBJ_MAT; end
                 `ISA_ST_POP_ADD: begin
                     o = `ISA_OP_ADD; w = `ISA_REG_PAR_COL; a = `ISA_REG_PAR_COL; b = `ISA_REG_CUR_COL;
                 end
@@ -594,7 +561,76 @@ module fast_ctrl #(
                 `ISA_ST_PIX_DONE:   a = `ISA_REG_STK0_COL;
                 default: ;
             endcase
-            micro_op = {o, a, b, w, m};
+            plan = {o, m, as, a, bs, b, ws, w};
+        end
+    endfunction
+
+    function [SRCW-1:0] operands(input [SWD-1:0] s);
+        reg [RAW-1:0]   rot;
+        reg             ctx, kind, found, okind, push, bkind;
+        reg [OW-1:0]    idx, oidx, bidx;
+        reg [LN-1:0]    dsign;
+        reg [RW-1:0]    shading_o, shading_d, shading_col, shading_w, shading_p, shading_r;
+        reg [RW-1:0]    search_o, search_d, obj_n, obj_mat, obj_col;
+        begin
+            rot   = s[S_ROT +: RAW];
+            ctx   = s[S_CTX];
+            kind  = s[J_KIND];
+            idx   = s[J_IDX +: OW];
+            found = s[S_FOUND];
+            okind = s[S_OKIND];
+            oidx  = s[S_OIDX +: OW];
+            bkind = s[S_BKIND];
+            bidx  = s[S_BIDX +: OW];
+            push  = s[S_PUSH];
+            dsign = s[S_DSIGN +: LN];
+
+            shading_o   = push ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
+            shading_d   = push ? `ISA_REG_PAR_D : `ISA_REG_CUR_D;
+            shading_col = push ? `ISA_REG_PAR_COL : `ISA_REG_CUR_COL;
+            shading_w   = push ? `ISA_REG_PAR_W : `ISA_REG_CUR_W;
+            shading_p   = push ? `ISA_REG_CUR_O : T_P;
+            shading_r   = push ? `ISA_REG_CUR_D : T_R;
+            search_o    = ctx == C_HIT ? `ISA_REG_CUR_O : shading_p;
+            search_d    = ctx == C_HIT ? `ISA_REG_CUR_D : T_L;
+            obj_n       = okind == K_SPH ? T_N : plane(oidx, `ISA_REG_PLN0_N);
+            obj_mat     = okind == K_SPH ? sphere(oidx, `ISA_REG_SPH0_MAT)
+                                         : plane(oidx, `ISA_REG_PLN0_MAT);
+            obj_col     = okind == K_SPH ? sphere(oidx, `ISA_REG_SPH0_COL)
+                                         : plane(oidx, `ISA_REG_PLN0_COL);
+
+            // In code order, highest first (the enumerations above).
+            operands = {
+                // w: W_SHADE_COL .. W_U_DST
+                shading_col, shading_r, shading_p, (ctx == C_HIT && !found) ? T_BEST : T_U,
+                // b: B_BEST_CUT .. B_ROT_C
+                bkind == K_SPH ? sphere(bidx, `ISA_REG_SPH0_R) : plane(bidx, `ISA_REG_PLN0_Q),
+                bkind == K_SPH ? sphere(bidx, `ISA_REG_SPH0_MAT) : plane(bidx, `ISA_REG_PLN0_MAT),
+                sphere(oidx, `ISA_REG_SPH0_R), sphere(oidx, `ISA_REG_SPH0_C), sphere(idx, `ISA_REG_SPH0_C),
+                kind == K_SPH ? T_V : plane(idx, `ISA_REG_PLN0_N),
+                search_d, search_o, shading_w, shading_p, obj_mat, obj_n, rot_reg(rot, `ISA_REG_ROT0_C),
+                // a: A_COLOUR .. A_ROT_S
+                (s[S_SPEC] && !s[S_DIFF]) ? T_G : T_S, corner(~dsign), corner(dsign),
+                kind == K_SPH ? sphere(idx, `ISA_REG_SPH0_R) : plane(idx, `ISA_REG_PLN0_Q),
+                kind == K_SPH ? T_V : search_o,
+                search_d, search_o, shading_r, shading_p, shading_d, shading_o, obj_col, obj_mat, obj_n,
+                rot_reg(rot, `ISA_REG_ROT0_S)};
+        end
+    endfunction
+
+    // P4b: {op, a, b, w, mask}, each address its register or its source.
+    function [UW-1:0] micro_op(input [PLW-1:0] p, input [SRCW-1:0] src);
+        reg [(1 << SELW)*RW-1:0]  a_of, b_of;   // codes past a field's last read 0
+        reg [(1 << WSELW)*RW-1:0] w_of;
+        begin
+            a_of = {src[SRC_A +: (A_N - 1) * RW], p[PL_A +: RW]};
+            b_of = {{((1 << SELW) - B_N) * RW{1'b0}}, src[SRC_B +: (B_N - 1) * RW], p[PL_B +: RW]};
+            w_of = {{((1 << WSELW) - W_N) * RW{1'b0}}, src[SRC_W +: (W_N - 1) * RW], p[PL_W +: RW]};
+            micro_op = {p[PL_OP +: OPW],
+                        a_of[RW*p[PL_AS +: SELW] +: RW],
+                        b_of[RW*p[PL_BS +: SELW] +: RW],
+                        w_of[RW*p[PL_WS +: WSELW] +: RW],
+                        p[PL_M +: LN]};
         end
     endfunction
 
@@ -1231,21 +1267,35 @@ module fast_ctrl #(
     wire unused_r_jumps = ^{r0_5[JW-1:0], r1_5[JW-1:0], s5[SWD-1:JW]};
 
     // ------------------------------------------------------------------------
-    // P4, P5: the candidates' micro-ops, then their physical addresses
+    // P4a, P4b, P5: the candidates' micro-ops, then their physical addresses
     // ------------------------------------------------------------------------
     localparam integer CODE_W = 2 * LN + 6 + PLN_N;   // mn, mp, inv, latches, ns, box, open
     wire [CODE_W-1:0] code_c = {mn_c, mp_c, inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c,
                                 box_corner_c, pln_open_c};
 
+    reg [SWD-1:0]    a0_d, a1_d;
+    reg [PLW-1:0]    plan0_d, plan1_d;
+    reg [SRCW-1:0]   opd0_d, opd1_d;
+    reg [CODE_W-1:0] code_d;
+    always @(posedge clk) begin
+        a0_d    <= a0_c;
+        a1_d    <= a1_c;
+        plan0_d <= plan(a0_c[J_ST +: SW], a0_c[J_CALL +: CALLW], a0_c[S_ROT +: RAW]);
+        plan1_d <= plan(a1_c[J_ST +: SW], a1_c[J_CALL +: CALLW], a1_c[S_ROT +: RAW]);
+        opd0_d  <= operands(a0_c);
+        opd1_d  <= operands(a1_c);
+        code_d  <= code_c;
+    end
+
     reg [SWD-1:0]    a0_u, a1_u;
     reg [UW-1:0]     l0_u, l1_u;
     reg [CODE_W-1:0] code_u;
     always @(posedge clk) begin
-        a0_u   <= a0_c;
-        a1_u   <= a1_c;
-        l0_u   <= micro_op(a0_c);
-        l1_u   <= micro_op(a1_c);
-        code_u <= code_c;
+        a0_u   <= a0_d;
+        a1_u   <= a1_d;
+        l0_u   <= micro_op(plan0_d, opd0_d);
+        l1_u   <= micro_op(plan1_d, opd1_d);
+        code_u <= code_d;
     end
 
     wire [RW-1:0] p0_a, p0_b, p0_w, p1_a, p1_b, p1_w;
@@ -1277,7 +1327,7 @@ module fast_ctrl #(
                code_u};
 
     // ------------------------------------------------------------------------
-    // Carried to C1 (positions 9 .. LAT+2)
+    // Carried to C1 (positions 10 .. LAT+2)
     // ------------------------------------------------------------------------
     wire [BW-1:0] bc;
     fast_delay #(.WIDTH(BW), .STAGES(CARRY1)) u_carry1 (.clk(clk), .d(b_p), .q(bc));
