@@ -131,7 +131,7 @@ pub enum PpError {
 }
 
 /// One of the top's pixel processors: processor `index` of `procs`, the
-/// instance `top.g_pp[index].u_pp` of rtl/top.v.
+/// instance `top.g_pp[index].g_compact.u_pp` of rtl/top.v.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ProcessorId {
     pub index: u32,
@@ -142,7 +142,7 @@ impl std::fmt::Display for ProcessorId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "processor {} of {} (top.g_pp[{}].u_pp)",
+            "processor {} of {} (top.g_pp[{}].g_compact.u_pp)",
             self.index, self.procs, self.index
         )
     }

@@ -64,12 +64,28 @@
 // trace port is brought out, lane i of each bus being processor i, with
 // trace_busy (busy_q) and trace_px, trace_py (the pixel it was given), and
 // the fault port is broadcast to the processors selected by fault_procs.
+//
+// FAST = 1: the processors are fast ones (rtl/fast/fast_pp.v, 2^CTX_BITS
+// pixel contexts each, with a coordinate queue and a result queue of their
+// own), behind the same stage, dispatcher and arbiter. A processor is free
+// when its coordinate queue has room (its in_ready): the dispatcher hands
+// the staged coordinate to the lowest-numbered free one, straight into its
+// queue. Its result slot is the head of its result queue (out_valid); the
+// arbiter takes it from there. out_cycles is the processor's count (the
+// barrel rule's, golden::micro::barrel) and out_ctx the context that ran
+// the pixel; a processor is busy (scene_ready, trace_busy) while it holds a
+// pixel. Trace: lane i of trace_ctx, trace_take, trace_done and
+// trace_turn_ctx is processor i's port of the same name, and trace_px,
+// trace_py the pixel of its write.
 // ============================================================================
 module top #(
     parameter integer N            = 4,
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT,
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT,
-    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT
+    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
+    parameter integer FAST         = 0,   // 1: fast processors (rtl/fast/fast_pp.v)
+    parameter integer EXPOSURE     = 1,   // FAST: 0 builds no exponential
+    parameter integer CTX_BITS     = 5    // FAST: 2^CTX_BITS contexts a processor
 ) (
     input  wire                             clk,
     input  wire                             rst_n,
@@ -97,6 +113,7 @@ module top #(
     output wire [`ISA_DIM_COORD_BITS-1:0]   out_x,
     output wire [`ISA_DIM_COORD_BITS-1:0]   out_y,
     output wire [((N > 1) ? $clog2(N) : 1)-1:0] out_proc,
+    output wire [CTX_BITS-1:0]              out_ctx,    // FAST; 0 otherwise
     output wire [95:0]                      out_rgb,
     output wire [31:0]                      out_cycles
 `ifdef PP_TRACE
@@ -109,6 +126,10 @@ module top #(
     output wire [N*96-1:0]                  trace_value,
     output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_px,
     output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_py,
+    output wire [N*CTX_BITS-1:0]            trace_ctx,       // FAST; 0 otherwise
+    output wire [N-1:0]                     trace_take,      // FAST; 0 otherwise
+    output wire [N-1:0]                     trace_done,      // FAST; 0 otherwise
+    output wire [N*CTX_BITS-1:0]            trace_turn_ctx,  // FAST; 0 otherwise
     input  wire [`ISA_DIM_ST_BITS-1:0]      fault_state,
     input  wire [31:0]                      fault_xor,
     input  wire [N-1:0]                     fault_procs
@@ -179,8 +200,9 @@ module top #(
     // ------------------------------------------------------------------------
     // Dispatcher: the lowest-numbered free processor takes the staged pixel
     // ------------------------------------------------------------------------
-    reg  [N-1:0]    busy_q, start_q, res_valid_q;
-    wire [N-1:0]    free = ~busy_q & ~res_valid_q;
+    wire [N-1:0]    busy;        // the processor holds a pixel
+    wire [N-1:0]    free;        // it may be given one
+    wire [N-1:0]    res_valid;   // its result slot is full
     reg             pick_found;
     reg  [PW-1:0]   pick;
     integer         k;
@@ -197,7 +219,7 @@ module top #(
     end
 
     assign dispatch    = stg_valid_q && pick_found && !scene_we;
-    assign scene_ready = ~|busy_q;
+    assign scene_ready = ~|busy;
 
     // ------------------------------------------------------------------------
     // Round-robin arbiter over the result slots, into the out register
@@ -213,7 +235,7 @@ module top #(
         for (j = 1; j <= N; j = j + 1) begin
             idx = {{(32 - PW){1'b0}}, rr_q} + j;
             if (idx >= N) idx = idx - N;
-            if (!grant_found && res_valid_q[idx]) begin
+            if (!grant_found && res_valid[idx]) begin
                 grant_found = 1'b1;
                 grant       = idx[PW-1:0];
             end
@@ -223,6 +245,7 @@ module top #(
     reg             out_valid_q;
     reg  [CW-1:0]   out_x_q, out_y_q;
     reg  [PW-1:0]   out_proc_q;
+    reg  [CTX_BITS-1:0] out_ctx_q;
     reg  [95:0]     out_rgb_q;
     reg  [31:0]     out_cycles_q;
     wire            out_load = (!out_valid_q || out_ready) && grant_found;
@@ -230,6 +253,7 @@ module top #(
     wire [N*CW-1:0] res_x_flat, res_y_flat;
     wire [N*96-1:0] res_rgb_flat;
     wire [N*32-1:0] res_cyc_flat;
+    wire [N*CTX_BITS-1:0] res_ctx_flat;
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
@@ -237,6 +261,7 @@ module top #(
             out_x_q      <= {CW{1'b0}};
             out_y_q      <= {CW{1'b0}};
             out_proc_q   <= {PW{1'b0}};
+            out_ctx_q    <= {CTX_BITS{1'b0}};
             out_rgb_q    <= 96'd0;
             out_cycles_q <= 32'd0;
             rr_q         <= {PW{1'b0}};
@@ -246,6 +271,7 @@ module top #(
                 out_x_q      <= res_x_flat[grant*CW +: CW];
                 out_y_q      <= res_y_flat[grant*CW +: CW];
                 out_proc_q   <= grant;
+                out_ctx_q    <= res_ctx_flat[grant*CTX_BITS +: CTX_BITS];
                 out_rgb_q    <= res_rgb_flat[grant*96 +: 96];
                 out_cycles_q <= res_cyc_flat[grant*32 +: 32];
                 rr_q         <= grant;
@@ -257,6 +283,7 @@ module top #(
     assign out_x      = out_x_q;
     assign out_y      = out_y_q;
     assign out_proc   = out_proc_q;
+    assign out_ctx    = out_ctx_q;
     assign out_rgb    = out_rgb_q;
     assign out_cycles = out_cycles_q;
 
@@ -268,99 +295,177 @@ module top #(
     genvar gi;
     generate
         for (gi = 0; gi < N; gi = gi + 1) begin : g_pp
-            reg  [CW-1:0] tag_x_q, tag_y_q;
-            reg  [31:0]   cnt_q;
-            reg  [CW-1:0] res_x_q, res_y_q;
-            reg  [95:0]   res_rgb_q;
-            reg  [31:0]   res_cyc_q;
-            wire          ready, done;
-            wire [95:0]   rgb;
             localparam [PW-1:0] ID = gi;
             wire          mine = dispatch && (pick == ID);
+            wire          take = out_load && (grant == ID);   // the slot empties
 
-            always @(posedge clk or negedge rst_n) begin
-                if (!rst_n) begin
-                    busy_q[gi]  <= 1'b0;
-                    start_q[gi] <= 1'b0;
-                    tag_x_q     <= {CW{1'b0}};
-                    tag_y_q     <= {CW{1'b0}};
-                end else begin
-                    start_q[gi] <= mine;
-                    if (mine) begin
-                        busy_q[gi] <= 1'b1;
-                        tag_x_q    <= stg_x_q;
-                        tag_y_q    <= stg_y_q;
-                    end else if (done) begin
-                        busy_q[gi] <= 1'b0;
+            if (FAST == 0) begin : g_compact
+                reg           busy_q, start_q, res_valid_q;
+                reg  [CW-1:0] tag_x_q, tag_y_q;
+                reg  [31:0]   cnt_q;
+                reg  [CW-1:0] res_x_q, res_y_q;
+                reg  [95:0]   res_rgb_q;
+                reg  [31:0]   res_cyc_q;
+                wire          ready, done;
+                wire [95:0]   rgb;
+
+                always @(posedge clk or negedge rst_n) begin
+                    if (!rst_n) begin
+                        busy_q  <= 1'b0;
+                        start_q <= 1'b0;
+                        tag_x_q <= {CW{1'b0}};
+                        tag_y_q <= {CW{1'b0}};
+                    end else begin
+                        start_q <= mine;
+                        if (mine) begin
+                            busy_q  <= 1'b1;
+                            tag_x_q <= stg_x_q;
+                            tag_y_q <= stg_y_q;
+                        end else if (done) begin
+                            busy_q <= 1'b0;
+                        end
                     end
                 end
-            end
 
-            // The pixel's cycles: cleared at the start edge, counting every
-            // cycle with ready low; the done cycle is the count plus one.
-            always @(posedge clk or negedge rst_n) begin
-                if (!rst_n) cnt_q <= 32'd0;
-                else if (start_q[gi]) cnt_q <= 32'd0;
-                else if (!ready) cnt_q <= cnt_q + 32'd1;
-            end
-
-            always @(posedge clk or negedge rst_n) begin
-                if (!rst_n) begin
-                    res_valid_q[gi] <= 1'b0;
-                    res_x_q         <= {CW{1'b0}};
-                    res_y_q         <= {CW{1'b0}};
-                    res_rgb_q       <= 96'd0;
-                    res_cyc_q       <= 32'd0;
-                end else if (done) begin
-                    res_valid_q[gi] <= 1'b1;
-                    res_x_q         <= tag_x_q;
-                    res_y_q         <= tag_y_q;
-                    res_rgb_q       <= rgb;
-                    res_cyc_q       <= cnt_q + 32'd1;
-                end else if (out_load && grant == ID) begin
-                    res_valid_q[gi] <= 1'b0;
+                // The pixel's cycles: from the cycle after its start edge to
+                // its done cycle inclusive.
+                always @(posedge clk or negedge rst_n) begin
+                    if (!rst_n) cnt_q <= 32'd0;
+                    else if (start_q) cnt_q <= 32'd0;
+                    else if (!ready) cnt_q <= cnt_q + 32'd1;
                 end
+
+                always @(posedge clk or negedge rst_n) begin
+                    if (!rst_n) begin
+                        res_valid_q <= 1'b0;
+                        res_x_q     <= {CW{1'b0}};
+                        res_y_q     <= {CW{1'b0}};
+                        res_rgb_q   <= 96'd0;
+                        res_cyc_q   <= 32'd0;
+                    end else if (done) begin
+                        res_valid_q <= 1'b1;
+                        res_x_q     <= tag_x_q;
+                        res_y_q     <= tag_y_q;
+                        res_rgb_q   <= rgb;
+                        res_cyc_q   <= cnt_q + 32'd1;
+                    end else if (take) begin
+                        res_valid_q <= 1'b0;
+                    end
+                end
+
+                assign busy[gi]                           = busy_q;
+                assign free[gi]                           = !busy_q && !res_valid_q;
+                assign res_valid[gi]                      = res_valid_q;
+                assign res_x_flat[gi*CW +: CW]            = res_x_q;
+                assign res_y_flat[gi*CW +: CW]            = res_y_q;
+                assign res_rgb_flat[gi*96 +: 96]          = res_rgb_q;
+                assign res_cyc_flat[gi*32 +: 32]          = res_cyc_q;
+                assign res_ctx_flat[gi*CTX_BITS +: CTX_BITS] = {CTX_BITS{1'b0}};
+
+                pixel_processor #(
+                    .RECIP_METHOD (RECIP_METHOD),
+                    .SQRT_METHOD  (SQRT_METHOD),
+                    .STACK_DEPTH  (STACK_DEPTH)
+                ) u_pp (
+                    .clk        (clk),
+                    .rst_n      (rst_n),
+                    .scene_we   (scene_take),
+                    .scene_cfg  (scene_cfg),
+                    .scene_addr (scene_addr),
+                    .scene_data (scene_data),
+                    .start      (start_q),
+                    .px         (tag_x_q),
+                    .py         (tag_y_q),
+                    .ready      (ready),
+                    .done       (done),
+                    .rgb        (rgb)
+`ifdef PP_TRACE
+                    ,
+                    .trace_valid (trace_valid[gi]),
+                    .trace_state (trace_state[gi*`ISA_DIM_ST_BITS +: `ISA_DIM_ST_BITS]),
+                    .trace_dst   (trace_dst[gi*`ISA_DIM_REG_BITS +: `ISA_DIM_REG_BITS]),
+                    .trace_lanes (trace_lanes[gi*3 +: 3]),
+                    .trace_value (trace_value[gi*96 +: 96]),
+                    .fault_state (fault_state),
+                    .fault_xor   (fault_procs[gi] ? fault_xor : 32'd0)
+`endif
+                );
+
+`ifdef PP_TRACE
+                assign trace_busy[gi]                          = busy_q;
+                assign trace_px[gi*CW +: CW]                   = tag_x_q;
+                assign trace_py[gi*CW +: CW]                   = tag_y_q;
+                assign trace_ctx[gi*CTX_BITS +: CTX_BITS]      = {CTX_BITS{1'b0}};
+                assign trace_take[gi]                          = 1'b0;
+                assign trace_done[gi]                          = 1'b0;
+                assign trace_turn_ctx[gi*CTX_BITS +: CTX_BITS] = {CTX_BITS{1'b0}};
+`endif
+            end else begin : g_fast
+                wire          in_ready_i, idle;
+                wire          out_valid_i;
+                wire [CW-1:0] out_x_i, out_y_i;
+
+                fast_pp #(
+                    .RECIP_METHOD (RECIP_METHOD),
+                    .SQRT_METHOD  (SQRT_METHOD),
+                    .STACK_DEPTH  (STACK_DEPTH),
+                    .EXPOSURE     (EXPOSURE),
+                    .CTX_BITS     (CTX_BITS)
+                ) u_pp (
+                    .clk         (clk),
+                    .rst_n       (rst_n),
+                    .scene_we    (scene_take),
+                    .scene_cfg   (scene_cfg),
+                    .scene_addr  (scene_addr),
+                    .scene_data  (scene_data),
+                    .scene_ready (idle),
+                    .in_valid    (mine),
+                    .in_ready    (in_ready_i),
+                    .in_x        (stg_x_q),
+                    .in_y        (stg_y_q),
+                    .out_valid   (out_valid_i),
+                    .out_ready   (take),
+                    .out_x       (out_x_i),
+                    .out_y       (out_y_i),
+                    .out_ctx     (res_ctx_flat[gi*CTX_BITS +: CTX_BITS]),
+                    .out_rgb     (res_rgb_flat[gi*96 +: 96]),
+                    .out_cycles  (res_cyc_flat[gi*32 +: 32])
+`ifdef PP_TRACE
+                    ,
+                    .trace_valid    (trace_valid[gi]),
+                    .trace_ctx      (trace_ctx[gi*CTX_BITS +: CTX_BITS]),
+                    .trace_px       (trace_px[gi*CW +: CW]),
+                    .trace_py       (trace_py[gi*CW +: CW]),
+                    .trace_state    (trace_state[gi*`ISA_DIM_ST_BITS +: `ISA_DIM_ST_BITS]),
+                    .trace_dst      (trace_dst[gi*`ISA_DIM_REG_BITS +: `ISA_DIM_REG_BITS]),
+                    .trace_lanes    (trace_lanes[gi*3 +: 3]),
+                    .trace_value    (trace_value[gi*96 +: 96]),
+                    .trace_take     (trace_take[gi]),
+                    .trace_done     (trace_done[gi]),
+                    .trace_turn_ctx (trace_turn_ctx[gi*CTX_BITS +: CTX_BITS]),
+                    .fault_state    (fault_state),
+                    .fault_xor      (fault_procs[gi] ? fault_xor : 32'd0)
+`endif
+                );
+
+                assign busy[gi]                = !idle;
+                assign free[gi]                = in_ready_i;
+                assign res_valid[gi]           = out_valid_i;
+                assign res_x_flat[gi*CW +: CW] = out_x_i;
+                assign res_y_flat[gi*CW +: CW] = out_y_i;
+`ifdef PP_TRACE
+                assign trace_busy[gi]          = !idle;
+`endif
             end
+        end
+    endgenerate
 
-            assign res_x_flat[gi*CW +: CW]   = res_x_q;
-            assign res_y_flat[gi*CW +: CW]   = res_y_q;
-            assign res_rgb_flat[gi*96 +: 96] = res_rgb_q;
-            assign res_cyc_flat[gi*32 +: 32] = res_cyc_q;
 
-            pixel_processor #(
-                .RECIP_METHOD (RECIP_METHOD),
-                .SQRT_METHOD  (SQRT_METHOD),
-                .STACK_DEPTH  (STACK_DEPTH)
-            ) u_pp (
-                .clk        (clk),
-                .rst_n      (rst_n),
-                .scene_we   (scene_take),
-                .scene_cfg  (scene_cfg),
-                .scene_addr (scene_addr),
-                .scene_data (scene_data),
-                .start      (start_q[gi]),
-                .px         (tag_x_q),
-                .py         (tag_y_q),
-                .ready      (ready),
-                .done       (done),
-                .rgb        (rgb)
-`ifdef PP_TRACE
-                ,
-                .trace_valid (trace_valid[gi]),
-                .trace_state (trace_state[gi*`ISA_DIM_ST_BITS +: `ISA_DIM_ST_BITS]),
-                .trace_dst   (trace_dst[gi*`ISA_DIM_REG_BITS +: `ISA_DIM_REG_BITS]),
-                .trace_lanes (trace_lanes[gi*3 +: 3]),
-                .trace_value (trace_value[gi*96 +: 96]),
-                .fault_state (fault_state),
-                .fault_xor   (fault_procs[gi] ? fault_xor : 32'd0)
-`endif
-            );
-
-`ifdef PP_TRACE
-            assign trace_busy[gi]            = busy_q[gi];
-            assign trace_px[gi*CW +: CW]     = tag_x_q;
-            assign trace_py[gi*CW +: CW]     = tag_y_q;
-`endif
+    // The compact processor always has its exponential: EXPOSURE = 0 is a
+    // fast-processor build.
+    generate
+        if (FAST == 0 && EXPOSURE != 1) begin : g_exposure_is_fast_only
+            top_exposure_0_needs_fast_processors u_error ();
         end
     endgenerate
 

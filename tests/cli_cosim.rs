@@ -459,7 +459,7 @@ fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
     assert_eq!(out.status.code(), Some(2), "{}", both(&out));
     let stderr = text(&out.stderr);
     assert!(
-        stderr.contains("on processor 0 of 4 (top.g_pp[0].u_pp)"),
+        stderr.contains("on processor 0 of 4 (top.g_pp[0].g_compact.u_pp)"),
         "{stderr}"
     );
 

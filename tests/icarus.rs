@@ -20,10 +20,10 @@
 mod common;
 
 use common::icarus::{
-    compile, compile_fast_alu, compile_fast_pp, compile_fast_regfile, compile_fast_units,
-    differences, fast_differences, icarus_present, pix_lines, run_fast_alu, run_fast_pp,
-    run_fast_regfile, run_fast_units, run_vvp, scene_hex, simulate, vvp_pixels, work_dir,
-    write_scene_hex, SimPixel,
+    compile, compile_fast_alu, compile_fast_pp, compile_fast_regfile, compile_fast_top,
+    compile_fast_units, differences, fast_differences, fast_top_differences, icarus_present,
+    pix_lines, run_fast_alu, run_fast_pp, run_fast_regfile, run_fast_units, run_vvp, scene_hex,
+    simulate, vvp_pixels, work_dir, write_scene_hex, SimPixel,
 };
 use common::{builtin, reduced, window};
 use golden::fp::Method;
@@ -632,4 +632,76 @@ fn fast_processor_agrees_with_golden_under_icarus() {
     }
     println!("{:.1} s in all", start.elapsed().as_secs_f64());
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A top of three fast processors (rtl/top.v with FAST = 1) under Icarus
+/// (tests/icarus/fast_top_tb.v), fed 96 pixels of the reference scene at
+/// 40x30 every cycle with out_ready high: every pixel's register-file
+/// writes and colour bits are golden::micro's, and its processor, context
+/// and cycles and the frame's cycles are the top's rule's
+/// (golden::micro::barrel::run_top: the stage, the dispatcher to the first
+/// processor whose queue has room, each processor's barrel and queues, the
+/// round-robin arbiter). The pixels fill processor 0's contexts and queue,
+/// then processor 1's, and the rest go to processor 2, so all three run
+/// and their results meet at the arbiter. The checkers fail: a planted
+/// fault (lane x of every PRI_HALF write flipped) is a divergence of every
+/// pixel, and the rule for a top of two processors, or of 31 contexts,
+/// predicts other processors or cycles.
+#[test]
+fn fast_top_agrees_with_golden_under_icarus() {
+    if !icarus_present("fast_top_agrees_with_golden_under_icarus") {
+        return;
+    }
+    use golden::micro::isa::state;
+    const PROCS: u32 = 3;
+    const CONTEXTS: u32 = 32;
+    let pixels = window(4, 8, 24, 4);
+    let fault_pixels = window(8, 6, 4, 1);
+    let start = std::time::Instant::now();
+    let scene = builtin("reference", 40, 30);
+    let run = |pixels: &[(u32, u32)], fault: Option<(u16, u32)>, tag: &str| {
+        let dir = work_dir(&format!("fast_top{tag}"));
+        let vvp = compile_fast_top(&dir, PROCS, scene.render.recip, scene.render.sqrt);
+        run_fast_pp(&vvp, &dir, &scene, pixels, fault)
+    };
+    let (run, faulty) = std::thread::scope(|s| {
+        let clean = s.spawn(|| run(&pixels, None, ""));
+        let faulty = s.spawn(|| run(&fault_pixels, Some((state::PRI_HALF, 1 << 20)), "_fault"));
+        (
+            clean.join().expect("the vvp run"),
+            faulty.join().expect("the faulty vvp run"),
+        )
+    });
+    let (bad, writes) = fast_top_differences(&scene, &run, &pixels, PROCS, CONTEXTS);
+    let mut per_proc = [0usize; PROCS as usize];
+    for p in &run.pixels {
+        per_proc[(p.ctx / 32) as usize] += 1;
+    }
+    println!(
+        "top of {PROCS} fast processors under Icarus, reference 40x30: {} pixels (per processor {per_proc:?}), \
+         {writes} writes compared, {} frame cycles, {} divergences ({:.1} s)",
+        run.pixels.len(),
+        run.frame_cycles,
+        bad.len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    assert_eq!(run.pixels.len(), pixels.len());
+    assert!(per_proc.iter().all(|&n| n > 0), "{per_proc:?}");
+
+    // The checkers fail.
+    let (bad, _) = fast_top_differences(&scene, &faulty, &fault_pixels, PROCS, CONTEXTS);
+    let hit = bad
+        .iter()
+        .filter(|b| b.contains("write #1: icarus"))
+        .count();
+    assert_eq!(hit, fault_pixels.len(), "{}", bad.join("\n"));
+    for (procs, contexts) in [(PROCS - 1, CONTEXTS), (PROCS, CONTEXTS - 1)] {
+        let (bad, _) = fast_top_differences(&scene, &run, &pixels, procs, contexts);
+        assert!(
+            bad.iter().any(|b| b.contains("top rule")),
+            "a top of {procs} x {contexts}: {}",
+            bad.join("\n")
+        );
+    }
 }

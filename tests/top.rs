@@ -296,7 +296,7 @@ fn a_hung_processor_trips_the_watchdog_with_its_name() {
     let text = err.to_string();
     assert!(
         text.contains(&format!(
-            "at pixel ({}, {}) on processor 2 of 4 (top.g_pp[2].u_pp)",
+            "at pixel ({}, {}) on processor 2 of 4 (top.g_pp[2].g_compact.u_pp)",
             slow.0, slow.1
         )) && text.contains("last state seen: "),
         "{text}"

@@ -445,6 +445,26 @@ pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method) -> PathBuf {
     vvp
 }
 
+/// fast_top_tb (a top of `procs` fast processors) compiled for these
+/// methods, in `dir`.
+pub fn compile_fast_top(dir: &Path, procs: u32, recip: Method, sqrt: Method) -> PathBuf {
+    let (includes, sources) = super::fast_top_tree();
+    let vvp = dir.join(format!("fast_top_tb_{procs}_{recip}_{sqrt}.vvp"));
+    iverilog(
+        &vvp,
+        "fast_top_tb",
+        &includes,
+        &sources,
+        &["PP_TRACE"],
+        &[
+            ("N", procs),
+            ("RECIP_METHOD", recip.code()),
+            ("SQRT_METHOD", sqrt.code()),
+        ],
+    );
+    vvp
+}
+
 /// One pixel as the fast processor gave it under Icarus.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FastPixel {
@@ -470,6 +490,9 @@ pub struct FastRun {
     /// top.cpp's frame_cycles: from the cycle that took the first
     /// coordinate to the one that gave the last result, both counted.
     pub frame_cycles: u64,
+    /// The turn's context in the cycle that took the first coordinate
+    /// (fast_top_tb's PHASE line; None from fast_pp_tb).
+    pub phase: Option<u32>,
     /// Trace lines that break the port's contract (a write tagged with a
     /// pixel other than its context's, a result of a context with no such
     /// pixel), as report lines.
@@ -575,6 +598,7 @@ fn parse_fast_pp(stdout: &str) -> FastRun {
                 });
             }
             Some("FRAME") => frame = f.get(1).map(|s| dec(s)),
+            Some("PHASE") => run.phase = f.get(1).map(|s| dec(s)),
             _ => {}
         }
     }
@@ -587,28 +611,20 @@ fn parse_fast_pp(stdout: &str) -> FastRun {
 /// read, one into the result queue).
 pub const FAST_FRAME_OVERHEAD: u64 = 4;
 
-/// Where a frame of the fast processor under Icarus differs from golden,
-/// for `pixels` fed in that order (each once) and a barrel of `contexts`:
-/// the takes' order, each pixel's writes in order (state, destination,
-/// lanes, values) and colour bits against `golden::micro`'s, and each
-/// pixel's context and cycles and the frame's cycles against the barrel
-/// rule's. The report lines, and the number of writes compared.
-pub fn fast_differences(
+/// Where the pixels of a frame of fast processors under Icarus differ from
+/// golden, for `pixels` fed (each once): each pixel's writes in order
+/// (state, destination, lanes, values) and colour bits against
+/// `golden::micro`'s, and the trace port's contract. The report lines, the
+/// number of writes compared, and each pixel's work for a cycle rule.
+fn fast_pixel_differences(
     scene: &Scene,
     run: &FastRun,
     pixels: &[(u32, u32)],
-    contexts: u32,
-) -> (Vec<String>, usize) {
-    use golden::micro::barrel::{self, PixelWork};
+) -> (Vec<String>, usize, Vec<golden::micro::barrel::PixelWork>) {
+    use golden::micro::barrel::PixelWork;
     use golden::micro::isa::state_label;
     let golden = Processor::new(scene);
     let mut bad = run.protocol.clone();
-    if run.taken != pixels {
-        bad.push(format!(
-            "takes {:?}, fed {pixels:?}",
-            &run.taken[..run.taken.len().min(8)]
-        ));
-    }
     let mut back: Vec<(u32, u32)> = run.pixels.iter().map(|p| (p.x, p.y)).collect();
     back.sort_unstable();
     let mut want: Vec<(u32, u32)> = pixels.to_vec();
@@ -662,6 +678,29 @@ pub fn fast_differences(
             ));
         }
     }
+    (bad, compared, work)
+}
+
+/// Where a frame of the fast processor under Icarus differs from golden,
+/// for `pixels` fed in that order (each once) and a barrel of `contexts`:
+/// the takes' order, each pixel's writes and colour
+/// ([`fast_pixel_differences`]), and each pixel's context and cycles and
+/// the frame's cycles against the barrel rule's. The report lines, and the
+/// number of writes compared.
+pub fn fast_differences(
+    scene: &Scene,
+    run: &FastRun,
+    pixels: &[(u32, u32)],
+    contexts: u32,
+) -> (Vec<String>, usize) {
+    use golden::micro::barrel;
+    let (mut bad, compared, work) = fast_pixel_differences(scene, run, pixels);
+    if run.taken != pixels {
+        bad.push(format!(
+            "takes {:?}, fed {pixels:?}",
+            &run.taken[..run.taken.len().min(8)]
+        ));
+    }
     // The barrel rule for the pixels in the order they were fed; contexts
     // numbered from the one that took the first pixel.
     let barrel = barrel::run(contexts, &work);
@@ -692,6 +731,52 @@ pub fn fast_differences(
         bad.push(format!(
             "the frame took {} cycles; barrel {} + {FAST_FRAME_OVERHEAD}",
             run.frame_cycles, barrel.cycles
+        ));
+    }
+    (bad, compared)
+}
+
+/// [`fast_differences`] for a top of `procs` fast processors of `contexts`
+/// contexts each (fast_top_tb, a context named proc * 32 + ctx): each
+/// pixel's writes and colour, and its processor, context and cycles and
+/// the frame's cycles against the top's rule (`golden::micro::barrel::
+/// run_top`, from the phase the run printed and the arbiter as reset left
+/// it).
+pub fn fast_top_differences(
+    scene: &Scene,
+    run: &FastRun,
+    pixels: &[(u32, u32)],
+    procs: u32,
+    contexts: u32,
+) -> (Vec<String>, usize) {
+    use golden::micro::barrel::{self, TopStart};
+    let (mut bad, compared, work) = fast_pixel_differences(scene, run, pixels);
+    let k = 1 << 5; // fast_pp's CTX_BITS, as fast_top_tb names contexts
+    let start = TopStart {
+        procs,
+        contexts,
+        phase: run.phase.expect("a PHASE line") % contexts,
+        last_grant: 0,
+    };
+    let top = barrel::run_top(start, &work, &|_| true);
+    for p in &run.pixels {
+        let Some(i) = pixels.iter().position(|&c| c == (p.x, p.y)) else {
+            continue;
+        };
+        let w = top.pixels[i];
+        let got = (p.ctx / k, p.ctx % k, p.cycles);
+        let want = (w.proc, w.run.context, w.run.cycles());
+        if got != want {
+            bad.push(format!(
+                "({}, {}): processor {}, context {}, {} cycles; top rule: processor {}, context {}, {} cycles",
+                p.x, p.y, got.0, got.1, got.2, want.0, want.1, want.2
+            ));
+        }
+    }
+    if run.frame_cycles != top.frame_cycles {
+        bad.push(format!(
+            "the frame took {} cycles; the top rule {}",
+            run.frame_cycles, top.frame_cycles
         ));
     }
     (bad, compared)

@@ -22,6 +22,11 @@ pub fn fast_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
     rtl_files(&["fast", "fp", "pp"], false)
 }
 
+/// The whole tree, for a top of fast processors (rtl/top.v, FAST = 1).
+pub fn fast_top_tree() -> (Vec<PathBuf>, Vec<PathBuf>) {
+    rtl_files(&["fast", "fp", "pp"], true)
+}
+
 /// The directories `dirs` of rtl/ and their `*.v` files, with rtl/'s own
 /// when `with_top`, sorted.
 fn rtl_files(dirs: &[&str], with_top: bool) -> (Vec<PathBuf>, Vec<PathBuf>) {

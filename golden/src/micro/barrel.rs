@@ -102,6 +102,71 @@ enum Context {
     },
 }
 
+/// One processor's contexts and its EXP history: the rule, a turn at a
+/// time.
+#[derive(Debug, Clone)]
+struct Barrel {
+    ctx: Vec<Context>,
+    last_exp: Option<u64>,
+    exp_waits: u64,
+}
+
+/// What a turn did: the pixel it ended (its done turn), and whether it took
+/// the pixel offered.
+#[derive(Debug, Clone, Copy, Default)]
+struct Turn {
+    done: Option<usize>,
+    took: bool,
+}
+
+impl Barrel {
+    fn new(contexts: u32) -> Barrel {
+        assert!(contexts > 0, "a barrel of no contexts");
+        Barrel {
+            ctx: vec![Context::Idle; contexts as usize],
+            last_exp: None,
+            exp_waits: 0,
+        }
+    }
+
+    /// Cycle `t`, the turn of context `c`: `offer` is the pixel it may take
+    /// (None: no pixel waits, or takes are refused).
+    fn turn(&mut self, t: u64, c: usize, pixels: &[PixelWork], offer: Option<usize>) -> Turn {
+        let take = |offer: Option<usize>| match offer {
+            Some(pixel) => (Context::Running { pixel, next: 0 }, true),
+            None => (Context::Idle, false),
+        };
+        let mut turn = Turn::default();
+        let (next, took) = match self.ctx[c] {
+            Context::Idle => take(offer),
+            Context::Running { pixel, next } if next < pixels[pixel].instructions => {
+                if pixels[pixel].exp_at == Some(next) && self.last_exp.is_some_and(|e| t <= e + 2) {
+                    self.exp_waits += 1;
+                    (self.ctx[c], false)
+                } else {
+                    if pixels[pixel].exp_at == Some(next) {
+                        self.last_exp = Some(t);
+                    }
+                    (
+                        Context::Running {
+                            pixel,
+                            next: next + 1,
+                        },
+                        false,
+                    )
+                }
+            }
+            Context::Running { pixel, .. } => {
+                turn.done = Some(pixel);
+                take(offer)
+            }
+        };
+        self.ctx[c] = next;
+        turn.took = took;
+        turn
+    }
+}
+
 /// Runs `pixels`, all waiting at cycle 0, through a barrel of `contexts`
 /// contexts by the rule above.
 ///
@@ -115,57 +180,34 @@ pub fn run(contexts: u32, pixels: &[PixelWork]) -> BarrelRun {
 /// Panics if `contexts` is 0, or if `open` stays false for 2^32 cycles in a
 /// row while a pixel waits.
 pub fn run_gated(contexts: u32, pixels: &[PixelWork], open: &dyn Fn(u64) -> bool) -> BarrelRun {
-    assert!(contexts > 0, "a barrel of no contexts");
+    let mut barrel = Barrel::new(contexts);
+    let k = contexts as u64;
     let mut closed_run = 0u64;
-    let k = contexts as usize;
-    let mut ctx = vec![Context::Idle; k];
     let mut out: Vec<Option<BarrelPixel>> = vec![None; pixels.len()];
     let mut waiting = 0usize; // the next input pixel
     let mut finished = 0usize;
-    let mut last_exp: Option<u64> = None;
-    let mut exp_waits = 0u64;
     let mut t = 0u64;
     while finished < pixels.len() {
-        let c = (t % k as u64) as usize;
+        let c = (t % k) as usize;
         let may_take = open(t);
         closed_run = if may_take { 0 } else { closed_run + 1 };
         assert!(closed_run < 1 << 32, "takes refused for 2^32 cycles");
-        let take = |t: u64, c: usize, waiting: &mut usize, out: &mut [Option<BarrelPixel>]| {
-            if may_take {
-                take(t, c, waiting, out)
-            } else {
-                Context::Idle
+        let offer = (may_take && waiting < pixels.len()).then_some(waiting);
+        let turn = barrel.turn(t, c, pixels, offer);
+        if let Some(p) = turn.done {
+            if let Some(p) = out[p].as_mut() {
+                p.done = t;
             }
-        };
-        ctx[c] = match ctx[c] {
-            Context::Idle => take(t, c, &mut waiting, &mut out),
-            Context::Running { pixel, next } if next < pixels[pixel].instructions => {
-                if pixels[pixel].exp_at == Some(next) {
-                    if last_exp.is_some_and(|e| t <= e + 2) {
-                        exp_waits += 1;
-                        ctx[c]
-                    } else {
-                        last_exp = Some(t);
-                        Context::Running {
-                            pixel,
-                            next: next + 1,
-                        }
-                    }
-                } else {
-                    Context::Running {
-                        pixel,
-                        next: next + 1,
-                    }
-                }
-            }
-            Context::Running { pixel, .. } => {
-                if let Some(p) = out[pixel].as_mut() {
-                    p.done = t;
-                }
-                finished += 1;
-                take(t, c, &mut waiting, &mut out)
-            }
-        };
+            finished += 1;
+        }
+        if turn.took {
+            out[waiting] = Some(BarrelPixel {
+                context: c as u32,
+                taken: t,
+                done: 0,
+            });
+            waiting += 1;
+        }
         t += 1;
     }
     let pixels: Vec<BarrelPixel> = out
@@ -176,23 +218,197 @@ pub fn run_gated(contexts: u32, pixels: &[PixelWork], open: &dyn Fn(u64) -> bool
     BarrelRun {
         pixels,
         cycles,
-        exp_waits,
+        exp_waits: barrel.exp_waits,
     }
 }
 
-/// Context `c`'s turn t takes the next waiting pixel, if any.
-fn take(t: u64, c: usize, waiting: &mut usize, out: &mut [Option<BarrelPixel>]) -> Context {
-    if *waiting == out.len() {
-        return Context::Idle;
+// ---------------------------------------------------------------------------
+// A top of fast processors (rtl/top.v with FAST = 1)
+// ---------------------------------------------------------------------------
+
+/// A top of `procs` fast processors (`rtl/top.v`, FAST = 1), as it starts a
+/// frame: every processor idle, its queues empty; the top's stage and out
+/// register empty.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TopStart {
+    /// Processors.
+    pub procs: u32,
+    /// Contexts of each.
+    pub contexts: u32,
+    /// The context whose turn cycle 0 is (every processor's ring turns
+    /// together: they leave reset together).
+    pub phase: u32,
+    /// The arbiter's last grant (`rr_q`: the processor of the last result
+    /// that left; 0 after reset).
+    pub last_grant: u32,
+}
+
+/// When a pixel ran on a top, in cycles from the frame's first (0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TopPixel {
+    /// The processor the dispatcher gave it to.
+    pub proc: u32,
+    /// The context that ran it, its turn and its done turn.
+    pub run: BarrelPixel,
+    /// The cycle its result left the top (out_valid && out_ready).
+    pub out: u64,
+}
+
+/// A frame through a top of fast processors.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TopRun {
+    /// Each pixel, in input order.
+    pub pixels: Vec<TopPixel>,
+    /// From the cycle the first coordinate entered (0) to the one the last
+    /// result left, inclusive.
+    pub frame_cycles: u64,
+}
+
+/// Cycles from a processor's done turn to its result's slot in the top
+/// (`rtl/fast/fast_pp.v`: the colour two edges on, then the result queue).
+const DONE_TO_SLOT: u64 = 3;
+
+/// The pixels of one frame through a top of fast processors, with the
+/// top's coordinate stream offered every cycle from cycle 0 and its result
+/// stream taken in the cycles `t` where `out_ready(t)`. The top's rule
+/// (`rtl/top.v`'s stage, dispatcher and arbiter; each processor's queues,
+/// `rtl/fast/fast_pp.v`), a cycle t at a time, every decision on the state
+/// at the start of the cycle:
+///
+/// - the stage takes the next coordinate if it is empty;
+/// - a staged coordinate goes to the lowest-numbered processor with fewer
+///   than 2 coordinates queued (it may take it from t + 1);
+/// - each processor's turn (context (t + phase) mod K) follows the barrel
+///   rule, a take offered the head of its queue while it holds fewer than
+///   2K pixels (taken, and not yet out of it);
+/// - a done turn at t puts the result in the processor's result queue, its
+///   head from t + 3;
+/// - the arbiter, round robin from the processor after the last grant,
+///   moves one queue head into the out register when that is empty or
+///   taken this cycle (the processor no longer holds the pixel);
+/// - the out register's result leaves in a cycle with out_ready.
+///
+/// Panics if `procs` or `contexts` is 0, `phase` or `last_grant` is out of
+/// range, or no result leaves for 2^32 cycles while a pixel waits (an
+/// `out_ready` that never opens).
+pub fn run_top(start: TopStart, pixels: &[PixelWork], out_ready: &dyn Fn(u64) -> bool) -> TopRun {
+    assert!(start.procs > 0, "a top of no processors");
+    assert!(
+        start.phase < start.contexts,
+        "phase {} of {} contexts",
+        start.phase,
+        start.contexts
+    );
+    assert!(
+        start.last_grant < start.procs,
+        "last grant {} of {} processors",
+        start.last_grant,
+        start.procs
+    );
+    let n = start.procs as usize;
+    let k = start.contexts as u64;
+    let hold_max = 2 * k;
+
+    struct Proc {
+        barrel: Barrel,
+        queue: std::collections::VecDeque<usize>,
+        results: std::collections::VecDeque<(usize, u64)>, // (pixel, in its slot from)
+        held: u64,
     }
-    let pixel = *waiting;
-    *waiting += 1;
-    out[pixel] = Some(BarrelPixel {
-        context: c as u32,
-        taken: t,
-        done: 0,
-    });
-    Context::Running { pixel, next: 0 }
+    let mut procs: Vec<Proc> = (0..n)
+        .map(|_| Proc {
+            barrel: Barrel::new(start.contexts),
+            queue: Default::default(),
+            results: Default::default(),
+            held: 0,
+        })
+        .collect();
+    let mut runs: Vec<Option<(u32, BarrelPixel)>> = vec![None; pixels.len()];
+    let mut outs: Vec<Option<u64>> = vec![None; pixels.len()];
+    let mut fed = 0usize;
+    let mut stage: Option<usize> = None;
+    let mut out_reg: Option<usize> = None;
+    let mut last_grant = start.last_grant as usize;
+    let mut left = 0usize;
+    let mut last_out = 0u64;
+    let mut quiet = 0u64;
+    let mut t = 0u64;
+    while left < pixels.len() {
+        quiet += 1;
+        assert!(quiet < 1 << 32, "no result left the top for 2^32 cycles");
+        let ready = out_ready(t);
+        // The out register, and the arbiter (on the state at t's start).
+        if let (Some(p), true) = (out_reg, ready) {
+            outs[p] = Some(t);
+            left += 1;
+            last_out = t;
+            quiet = 0;
+        }
+        let grant = (1..=n)
+            .map(|j| (last_grant + j) % n)
+            .find(|&i| procs[i].results.front().is_some_and(|&(_, from)| from <= t));
+        let moves = out_reg.is_none() || ready;
+        // The dispatcher, and the stage.
+        let pick = stage.and((0..n).find(|&i| procs[i].queue.len() < 2));
+        // Each processor's turn.
+        let c = ((t + start.phase as u64) % k) as usize;
+        for (i, proc) in procs.iter_mut().enumerate() {
+            let offer = proc.queue.front().copied().filter(|_| proc.held < hold_max);
+            let turn = proc.barrel.turn(t, c, pixels, offer);
+            if let Some(p) = turn.done {
+                if let Some((_, run)) = runs[p].as_mut() {
+                    run.done = t;
+                }
+                proc.results.push_back((p, t + DONE_TO_SLOT));
+            }
+            if turn.took {
+                let p = proc.queue.pop_front().expect("the offered pixel");
+                runs[p] = Some((
+                    i as u32,
+                    BarrelPixel {
+                        context: c as u32,
+                        taken: t,
+                        done: 0,
+                    },
+                ));
+                proc.held += 1;
+            }
+        }
+        // The edge.
+        if moves {
+            out_reg = None;
+            if let Some(i) = grant {
+                let (p, _) = procs[i].results.pop_front().expect("the granted result");
+                procs[i].held -= 1;
+                out_reg = Some(p);
+                last_grant = i;
+            }
+        }
+        if let (Some(p), Some(i)) = (stage, pick) {
+            procs[i].queue.push_back(p);
+            stage = None;
+        } else if stage.is_none() && fed < pixels.len() {
+            stage = Some(fed);
+            fed += 1;
+        }
+        t += 1;
+    }
+    let pixels = runs
+        .into_iter()
+        .zip(outs)
+        .map(|(run, out)| {
+            let (proc, run) = run.expect("every pixel ran");
+            TopPixel {
+                proc,
+                run,
+                out: out.expect("every result left"),
+            }
+        })
+        .collect();
+    TopRun {
+        pixels,
+        frame_cycles: if left == 0 { 0 } else { last_out + 1 },
+    }
 }
 
 #[cfg(test)]
@@ -290,6 +506,71 @@ mod tests {
             }
         );
         assert_eq!(gated.cycles, 10);
+    }
+
+    fn top(procs: u32, contexts: u32) -> TopStart {
+        TopStart {
+            procs,
+            contexts,
+            phase: 0,
+            last_grant: 0,
+        }
+    }
+
+    fn top_pixel(proc: u32, taken: u64, done: u64, out: u64) -> TopPixel {
+        TopPixel {
+            proc,
+            run: BarrelPixel {
+                context: 0,
+                taken,
+                done,
+            },
+            out,
+        }
+    }
+
+    /// Worked by hand from the rule: a coordinate a cycle into the stage
+    /// when it is empty (0, 2, 4), to processor 0 the cycle after (its
+    /// queue has room), taken from its queue at the next turn; with one
+    /// context the processor holds at most 2 pixels, so pixel 2 waits in
+    /// its queue (cycles 6, 7) until pixel 0's result leaves for the out
+    /// register (edge of 7), and processor 1 never gets a pixel.
+    #[test]
+    fn a_top_dispatches_to_the_first_queue_with_room_and_holds_2k() {
+        let r = run_top(top(2, 1), &[work(1), work(1), work(1)], &|_| true);
+        assert_eq!(
+            r.pixels,
+            [
+                top_pixel(0, 2, 4, 8),
+                top_pixel(0, 4, 6, 10),
+                top_pixel(0, 8, 10, 14)
+            ]
+        );
+        assert_eq!(r.frame_cycles, 15);
+    }
+
+    /// Processor 0's queue full (pixels 1, 2 behind the running pixel 0),
+    /// the stage's next coordinate goes to processor 1 (cycle 7), which
+    /// takes it at its next turn.
+    #[test]
+    fn a_top_spreads_when_the_first_queue_is_full() {
+        let r = run_top(top(2, 1), &[work(10); 4], &|_| true);
+        let procs: Vec<u32> = r.pixels.iter().map(|p| p.proc).collect();
+        assert_eq!(procs, [0, 0, 0, 1]);
+        assert_eq!(r.pixels[3].run.taken, 8);
+        assert_eq!(r.pixels[0].run.done, 2 + 11);
+        assert_eq!(r.pixels[1].run.taken, 13);
+    }
+
+    /// A result waits in the out register while out_ready is low, and the
+    /// stalled cycles add to the frame.
+    #[test]
+    fn a_top_result_waits_for_out_ready() {
+        let open = run_top(top(1, 1), &[work(1)], &|_| true);
+        assert_eq!(open.pixels, [top_pixel(0, 2, 4, 8)]);
+        let held = run_top(top(1, 1), &[work(1)], &|t| t >= 12);
+        assert_eq!(held.pixels, [top_pixel(0, 2, 4, 12)]);
+        assert_eq!(held.frame_cycles, 13);
     }
 
     #[test]

@@ -1,0 +1,231 @@
+`default_nettype none
+`include "isa.vh"
+`include "fp_defs.vh"
+`include "fast_defs.vh"
+// ============================================================================
+// fast_top_tb -- the top of N fast processors (rtl/top.v, FAST = 1) under
+//                Icarus Verilog, with its trace ports (tests/icarus.rs)
+// ============================================================================
+// fast_pp_tb's protocol and output, for the top: the same reset and scene
+// writes, the coordinates offered on the in stream every cycle, the
+// results taken with out_ready high, every cycle sampled with clk low
+// after its inputs have settled. A context is named by processor and
+// context as one number, proc * 2^CTX_BITS + ctx, so the lines read as
+// fast_pp_tb's:
+//   PHASE c                        the turn's context in the cycle that
+//                                  took the first coordinate
+//   TAKE ctx x y                   (lanes in processor order within a cycle)
+//   EV ctx x y state dst lanes vx vy vz
+//   PIX x y rgb_x rgb_y rgb_z cycles ctx
+// then FRAME c and END, or HUNG taken given.
+//
+// Not under rtl/: a second top there would fail the whole-tree lint.
+// ============================================================================
+module fast_top_tb;
+
+    parameter integer N            = 2;
+    parameter integer RECIP_METHOD = `FP_METHOD_EXACT;
+    parameter integer SQRT_METHOD  = `FP_METHOD_EXACT;
+    parameter integer EXPOSURE     = 1;
+    parameter integer CTX_BITS     = 5;
+    parameter integer MAX_WRITES   = 1 << `ISA_DIM_REG_BITS;
+    parameter integer MAX_PIXELS   = 1 << 16;
+    parameter integer TIMEOUT      = 100000;  // pixel_proc::DEFAULT_TIMEOUT_CYCLES
+
+    localparam integer CW = `ISA_DIM_COORD_BITS;
+    localparam integer RW = `ISA_DIM_REG_BITS;
+    localparam integer SW = `ISA_DIM_ST_BITS;
+    localparam integer PW = (N > 1) ? $clog2(N) : 1;
+
+    reg                   clk, rst_n;
+    reg                   scene_we, scene_cfg;
+    reg  [RW-1:0]         scene_addr;
+    reg  [95:0]           scene_data;
+    wire                  scene_ready;
+    reg                   in_valid, out_ready;
+    reg  [CW-1:0]         in_x, in_y;
+    wire                  in_ready, out_valid, raster_busy;
+    wire [CW-1:0]         out_x, out_y;
+    wire [PW-1:0]         out_proc;
+    wire [CTX_BITS-1:0]   out_ctx;
+    wire [95:0]           out_rgb;
+    wire [31:0]           out_cycles;
+
+    wire [N-1:0]          trace_valid, trace_busy, trace_take, trace_done;
+    wire [N*CTX_BITS-1:0] trace_ctx, trace_turn_ctx;
+    wire [N*CW-1:0]       trace_px, trace_py;
+    wire [N*SW-1:0]       trace_state;
+    wire [N*RW-1:0]       trace_dst;
+    wire [N*3-1:0]        trace_lanes;
+    wire [N*96-1:0]       trace_value;
+    reg  [SW-1:0]         fault_state;
+    reg  [31:0]           fault_xor;
+
+    top #(
+        .N            (N),
+        .RECIP_METHOD (RECIP_METHOD),
+        .SQRT_METHOD  (SQRT_METHOD),
+        .FAST         (1),
+        .EXPOSURE     (EXPOSURE),
+        .CTX_BITS     (CTX_BITS)
+    ) dut (
+        .clk            (clk),
+        .rst_n          (rst_n),
+        .scene_we       (scene_we),
+        .scene_cfg      (scene_cfg),
+        .scene_addr     (scene_addr),
+        .scene_data     (scene_data),
+        .scene_ready    (scene_ready),
+        .raster_mode    (1'b0),
+        .raster_start   (1'b0),
+        .win_x0         ({CW{1'b0}}),
+        .win_y0         ({CW{1'b0}}),
+        .win_x1         ({CW{1'b0}}),
+        .win_y1         ({CW{1'b0}}),
+        .raster_busy    (raster_busy),
+        .in_valid       (in_valid),
+        .in_ready       (in_ready),
+        .in_x           (in_x),
+        .in_y           (in_y),
+        .out_valid      (out_valid),
+        .out_ready      (out_ready),
+        .out_x          (out_x),
+        .out_y          (out_y),
+        .out_proc       (out_proc),
+        .out_ctx        (out_ctx),
+        .out_rgb        (out_rgb),
+        .out_cycles     (out_cycles),
+        .trace_valid    (trace_valid),
+        .trace_busy     (trace_busy),
+        .trace_state    (trace_state),
+        .trace_dst      (trace_dst),
+        .trace_lanes    (trace_lanes),
+        .trace_value    (trace_value),
+        .trace_px       (trace_px),
+        .trace_py       (trace_py),
+        .trace_ctx      (trace_ctx),
+        .trace_take     (trace_take),
+        .trace_done     (trace_done),
+        .trace_turn_ctx (trace_turn_ctx),
+        .fault_state    (fault_state),
+        .fault_xor      (fault_xor),
+        .fault_procs    ({N{1'b1}})
+    );
+
+    // The coordinates at the head of processor p's queue (what a take takes).
+    wire [N*CW-1:0] heads_x, heads_y;
+    genvar gp;
+    generate
+        for (gp = 0; gp < N; gp = gp + 1) begin : g_head
+            assign heads_x[gp*CW +: CW] = dut.g_pp[gp].g_fast.u_pp.head_x;
+            assign heads_y[gp*CW +: CW] = dut.g_pp[gp].g_fast.u_pp.head_y;
+        end
+    endgenerate
+
+    reg [111:0] writes [0:MAX_WRITES-1];
+    reg [31:0]  pixels [0:MAX_PIXELS-1];
+
+    `include "tb_clock.vh"
+
+    reg [1023:0] scene_file, pixel_file;
+    integer      n_writes, n_pixels, i, p, given, taken, quiet, cycle, first_in, last_out;
+    integer      fault_state_arg;
+
+    initial begin
+        if (!$value$plusargs("scene=%s", scene_file) || !$value$plusargs("writes=%d", n_writes) ||
+            !$value$plusargs("pixels=%s", pixel_file) || !$value$plusargs("count=%d", n_pixels)) begin
+            $display("ERROR: usage: +scene=FILE +writes=N +pixels=FILE +count=M [+fault_state=S +fault_xor=H]");
+            $finish;
+        end
+        if (!$value$plusargs("fault_state=%d", fault_state_arg)) fault_state_arg = 0;
+        if (!$value$plusargs("fault_xor=%h", fault_xor)) fault_xor = 32'd0;
+        fault_state = fault_state_arg[SW-1:0];
+        $readmemh(scene_file, writes, 0, n_writes - 1);
+        $readmemh(pixel_file, pixels, 0, n_pixels - 1);
+
+        // Reset: rst_n low for two rising edges (verilated_owned.h).
+        clk        = 1'b0;
+        rst_n      = 1'b0;
+        scene_we   = 1'b0;
+        scene_cfg  = 1'b0;
+        scene_addr = {RW{1'b0}};
+        scene_data = 96'd0;
+        in_valid   = 1'b0;
+        in_x       = {CW{1'b0}};
+        in_y       = {CW{1'b0}};
+        out_ready  = 1'b0;
+        fall; rise;
+        fall; rise;
+        rst_n = 1'b1;
+        fall; rise;
+
+        // The scene port: one write per rising edge while scene_ready.
+        for (i = 0; i < n_writes; i = i + 1) begin
+            fall;
+            if (!scene_ready) begin
+                $display("ERROR: scene write %0d while scene_ready is low", i);
+                $finish;
+            end
+            scene_we   = 1'b1;
+            scene_cfg  = writes[i][104];
+            scene_addr = writes[i][96 +: RW];
+            scene_data = writes[i][95:0];
+            rise;
+            scene_we   = 1'b0;
+            scene_cfg  = 1'b0;
+        end
+
+        // The frame: a coordinate offered every cycle, out_ready high.
+        given    = 0;
+        taken    = 0;
+        quiet    = 0;
+        cycle    = 0;
+        first_in = 0;
+        last_out = 0;
+        while (taken < n_pixels) begin
+            fall;
+            in_valid  = (given < n_pixels);
+            in_x      = pixels[given % MAX_PIXELS][16 +: CW];
+            in_y      = pixels[given % MAX_PIXELS][0 +: CW];
+            out_ready = 1'b1;
+            #1;
+            cycle = cycle + 1;
+            quiet = quiet + 1;
+            if (in_valid && in_ready) begin
+                if (given == 0) begin
+                    first_in = cycle;
+                    $display("PHASE %0d", trace_turn_ctx[0 +: CTX_BITS]);
+                end
+                given = given + 1;
+                quiet = 0;
+            end
+            for (p = 0; p < N; p = p + 1) begin
+                if (trace_take[p])
+                    $display("TAKE %0d %0d %0d", (p << CTX_BITS) + trace_turn_ctx[p*CTX_BITS +: CTX_BITS],
+                             heads_x[p*CW +: CW], heads_y[p*CW +: CW]);
+                if (trace_valid[p])
+                    $display("EV %0d %0d %0d %0d %0d %0d %h %h %h", (p << CTX_BITS) + trace_ctx[p*CTX_BITS +: CTX_BITS],
+                             trace_px[p*CW +: CW], trace_py[p*CW +: CW], trace_state[p*SW +: SW],
+                             trace_dst[p*RW +: RW], trace_lanes[p*3 +: 3], trace_value[p*96 +: 32],
+                             trace_value[p*96 + 32 +: 32], trace_value[p*96 + 64 +: 32]);
+            end
+            if (out_valid && out_ready) begin
+                $display("PIX %0d %0d %h %h %h %0d %0d", out_x, out_y, out_rgb[31:0], out_rgb[63:32],
+                         out_rgb[95:64], out_cycles, {out_proc, out_ctx});
+                taken    = taken + 1;
+                last_out = cycle;
+                quiet    = 0;
+            end
+            if (quiet > 2 * TIMEOUT + 16) begin
+                $display("HUNG %0d %0d", taken, given);
+                $finish;
+            end
+            rise;
+        end
+        $display("FRAME %0d", last_out - first_in + 1);
+        $display("END");
+        $finish;
+    end
+
+endmodule
+`default_nettype wire
