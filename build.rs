@@ -25,7 +25,10 @@
 //! for the variants of `TOP_VARIANTS` (N = 1 and 4, exact methods: what the
 //! tests and the README use) and those `RTCOSIM_TOPS` adds, listed in
 //! `rtcosim_top_models.h`; its N processors are inlined, so N = 4 costs
-//! about four pixel processors of g++ time.
+//! about four pixel processors of g++ time. A top of fast processors
+//! (`FAST = 1`) is `Vtop_fast_<N>_<recip>_<sqrt>`, listed in
+//! `rtcosim_fast_top_models.h`: N = 2 exact by default, more with
+//! `RTCOSIM_TOPS=fast:N`.
 //!
 //! With the cargo feature `coverage`, each pair is verilated once more with
 //! Verilator's line, toggle and user coverage and `-DPP_COVER` (the
@@ -128,11 +131,20 @@ const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.
-const TOP_VARIANTS: &[(u32, &str, &str)] = &[(1, "exact", "exact"), (4, "exact", "exact")];
+/// (fast, N, recip, sqrt): `fast` a top of fast processors (`FAST = 1`).
+const TOP_VARIANTS: &[(bool, u32, &str, &str)] = &[
+    (false, 1, "exact", "exact"),
+    (false, 4, "exact", "exact"),
+    (true, 2, "exact", "exact"),
+];
 
 /// More top variants: a comma-separated list of `N` (exact methods) or
-/// `N:recip:sqrt`, e.g. `RTCOSIM_TOPS=2,8,4:fast:fast`.
+/// `N:recip:sqrt`, each with `fast:` before it for a top of fast
+/// processors, e.g. `RTCOSIM_TOPS=2,8,4:fast:fast,fast:34`.
 const TOPS: &str = "RTCOSIM_TOPS";
+
+/// The largest N of a top: compact processors, fast ones.
+const MAX_TOP_N: (u32, u32) = (8, 64);
 
 /// The variants of a fast-processor model `top` (`fast_alu`, `fast_pp`)
 /// that `table` lists: (class prefix, recip code, sqrt code, exposure).
@@ -163,26 +175,35 @@ fn fast_variants(
 }
 
 /// [`TOP_VARIANTS`] and what [`TOPS`] asks for, each once.
-fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<(u32, String, String)>, String> {
-    let mut wanted: Vec<(u32, String, String)> = TOP_VARIANTS
+fn top_variants_wanted(
+    methods: &[(String, u32)],
+) -> Result<Vec<(bool, u32, String, String)>, String> {
+    let mut wanted: Vec<(bool, u32, String, String)> = TOP_VARIANTS
         .iter()
-        .map(|&(n, r, s)| (n, r.to_string(), s.to_string()))
+        .map(|&(fast, n, r, s)| (fast, n, r.to_string(), s.to_string()))
         .collect();
     let asked = env::var(TOPS).unwrap_or_default();
     for item in asked.split(',').map(str::trim).filter(|i| !i.is_empty()) {
-        let parts: Vec<&str> = item.split(':').collect();
         let bad =
             || {
                 format!(
-                "{TOPS}={asked}: `{item}` is not N or N:recip:sqrt with N in 1..=8 and methods \
-                 among {}",
+                "{TOPS}={asked}: `{item}` is not [fast:]N or [fast:]N:recip:sqrt with N in 1..={} \
+                 (fast: 1..={}) and methods among {}",
+                MAX_TOP_N.0,
+                MAX_TOP_N.1,
                 methods.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
             )
             };
+        let (fast, rest) = match item.strip_prefix("fast:") {
+            Some(rest) => (true, rest),
+            None => (false, item),
+        };
+        let parts: Vec<&str> = rest.split(':').collect();
+        let max = if fast { MAX_TOP_N.1 } else { MAX_TOP_N.0 };
         let n: u32 = parts[0]
             .parse()
             .ok()
-            .filter(|n| (1..=8).contains(n))
+            .filter(|n| (1..=max).contains(n))
             .ok_or_else(bad)?;
         let (recip, sqrt) = match parts[1..] {
             [] => ("exact", "exact"),
@@ -192,7 +213,7 @@ fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<(u32, String, St
         if !methods.iter().any(|(m, _)| m == recip) || !methods.iter().any(|(m, _)| m == sqrt) {
             return Err(bad());
         }
-        let v = (n, recip.to_string(), sqrt.to_string());
+        let v = (fast, n, recip.to_string(), sqrt.to_string());
         if !wanted.contains(&v) {
             wanted.push(v);
         }
@@ -481,46 +502,71 @@ fn run() -> Result<(), String> {
     // The top (rtl/top.v) with its trace ports, for the N and method pairs
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
     let mut top_variants = Vec::new();
-    for (procs, recip, sqrt) in top_variants_wanted(&methods)? {
+    for (fast, procs, recip, sqrt) in top_variants_wanted(&methods)? {
         let (Some(recip_code), Some(sqrt_code)) =
             (method_code(&methods, &recip), method_code(&methods, &sqrt))
         else {
             continue;
         };
+        let kind = if fast { "fast_" } else { "" };
         top_variants.push((
+            fast,
             procs,
-            format!("Vtop_{procs}_{recip}_{sqrt}"),
+            format!("Vtop_{kind}{procs}_{recip}_{sqrt}"),
             recip_code,
             sqrt_code,
         ));
     }
+    // A top of fast processors reads rtl/fast too.
+    let fast_top_sources: Vec<PathBuf> = std::iter::once(manifest.join("rtl/top.v"))
+        .chain(fast_sources.iter().cloned())
+        .collect();
     let mut top_models: Vec<Model> = top_variants
         .iter()
-        .map(|(procs, prefix, recip, sqrt)| Model {
+        .map(|(fast, procs, prefix, recip, sqrt)| Model {
             prefix: prefix.clone(),
             top: "top",
             params: vec![
                 ("N", *procs),
                 ("RECIP_METHOD", *recip),
                 ("SQRT_METHOD", *sqrt),
+                ("FAST", u32::from(*fast)),
             ],
             defines: vec!["PP_TRACE"],
-            includes: vec![pp_dir.clone(), fp_dir.clone()],
-            sources: &top_sources,
+            includes: if *fast {
+                vec![fast_dir.clone(), pp_dir.clone(), fp_dir.clone()]
+            } else {
+                vec![pp_dir.clone(), fp_dir.clone()]
+            },
+            sources: if *fast {
+                &fast_top_sources
+            } else {
+                &top_sources
+            },
             flavour: Flavour::Plain,
         })
         .collect();
     models.append(&mut top_models);
+    let listed = |fast: bool| -> Vec<(String, String)> {
+        top_variants
+            .iter()
+            .filter(|v| v.0 == fast)
+            .map(|(_, procs, prefix, recip, sqrt)| {
+                (prefix.clone(), format!("{procs}, {recip}, {sqrt}"))
+            })
+            .collect()
+    };
     write_models(
         &out.join("rtcosim_top_models.h"),
         "the verilated top variants: X(class, N, recip code, sqrt code)",
         "RTCOSIM_TOP_MODELS",
-        &top_variants
-            .iter()
-            .map(|(procs, prefix, recip, sqrt)| {
-                (prefix.clone(), format!("{procs}, {recip}, {sqrt}"))
-            })
-            .collect::<Vec<_>>(),
+        &listed(false),
+    )?;
+    write_models(
+        &out.join("rtcosim_fast_top_models.h"),
+        "the verilated tops of fast processors: X(class, N, recip code, sqrt code)",
+        "RTCOSIM_FAST_TOP_MODELS",
+        &listed(true),
     )?;
 
     // The fast processor's ALU (rtl/fast/fast_alu.v with rtl/pp's opcode

@@ -143,6 +143,8 @@ pub fn to_json(run: &Run, report: &CosimReport) -> serde_json::Value {
         },
         "top": report.top.map(|t| json!({
             "processors": t.procs,
+            "through_top": t.through_top,
+            "contexts": t.contexts,
             "tiles": t.tiles,
             "frame_cycles": t.stats.frame_cycles,
             "pixel_cycles": t.stats.pixel_cycles,
@@ -209,8 +211,9 @@ pub fn to_markdown(run: &Run, report: &CosimReport) -> String {
     if let Some(t) = &report.top {
         let _ = writeln!(
             md,
-            "| top | {} processors, {} tiles: {} frame cycles, {:.1}% dispatcher idle |",
+            "| top | {} processors ({} contexts), {} tiles: {} frame cycles, {:.1}% dispatcher idle |",
             t.procs,
+            t.contexts,
             t.tiles,
             t.stats.frame_cycles,
             100.0 * t.idle_share()

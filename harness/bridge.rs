@@ -75,7 +75,7 @@ pub(crate) mod ffi {
     /// pixels since reset (from 0), and the event as its trace port shows it.
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     struct TopEvent {
-        proc: u8,
+        proc: u16,
         x: u16,
         y: u16,
         pixel: u32,
@@ -85,7 +85,7 @@ pub(crate) mod ffi {
     /// A result off the top's result stream.
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     struct TopResult {
-        proc: u8,
+        proc: u16,
         x: u16,
         y: u16,
         rgb: [u32; 3],
@@ -123,7 +123,7 @@ pub(crate) mod ffi {
         frame_cycles: u64,
         /// Watchdog: the processor (0xFF otherwise), its pixel, the state
         /// of its last trace event and that event's cycle, its trace_state.
-        proc: u8,
+        proc: u16,
         x: u16,
         y: u16,
         has_last_state: bool,
@@ -304,6 +304,16 @@ pub(crate) mod ffi {
             exposure: bool,
         ) -> Result<UniquePtr<TopSim>>;
 
+        /// Builds and resets the top of `procs` fast processors (rtl/top.v
+        /// with FAST = 1) with these method codes, as a top whose
+        /// processors are its processors' contexts (processor * 32 +
+        /// context); fails if that variant was not built.
+        fn new_fast_procs_top(
+            procs: u32,
+            recip_method: u32,
+            sqrt_method: u32,
+        ) -> Result<UniquePtr<TopSim>>;
+
         /// Holds rst_n low for two clock edges, releases it for one; fails
         /// unless scene_ready is then high. Forgets any frame.
         fn reset(self: Pin<&mut TopSim>) -> Result<()>;
@@ -340,6 +350,14 @@ pub(crate) mod ffi {
         /// take, in which a take had to be refused (2K pixels held, by the
         /// handshakes seen); nothing for the top.
         fn refused_takes(self: &TopSim, out: &mut Vec<u64>);
+
+        /// The last frame's cycles, from the one that took its first
+        /// coordinate, in which out_ready was low.
+        fn stalled_cycles(self: &TopSim, out: &mut Vec<u64>);
+
+        /// Fast processors: the context whose turn the next cycle is (0 for
+        /// compact ones); evaluates the model without an edge.
+        fn turn_phase(self: Pin<&mut TopSim>) -> u32;
 
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a

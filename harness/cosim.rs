@@ -26,7 +26,7 @@ use crate::processor::ProcessorKind;
 use crate::top::{FrameStats, Source, Top, FAST_CONTEXTS};
 use golden::fp::Method;
 use golden::frame::Frame;
-use golden::micro::barrel::{self, PixelWork};
+use golden::micro::barrel::{self, PixelWork, TopStart};
 use golden::micro::isa::state_label;
 use golden::micro::Processor;
 use golden::pixel::PixelOutcome;
@@ -77,12 +77,16 @@ pub struct CosimReport {
 /// How to drive the top in [`run_top`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TopOptions {
-    /// Which processor: the compact one's top (rtl/top.v with `procs`
-    /// processors), or the fast processor ([`FAST_CONTEXTS`] contexts, no
-    /// top around it: `procs` must be 1).
+    /// Which processor: compact ones (rtl/top.v with `procs` processors),
+    /// or fast ones ([`FAST_CONTEXTS`] contexts each): through rtl/top.v
+    /// with `procs` of them (`FAST = 1`), or one bare (`through_top`
+    /// false, `procs` 1).
     pub processor: ProcessorKind,
     /// Pixel processors (a verilated variant of rtl/top.v).
     pub procs: u32,
+    /// Whether rtl/top.v is around the processors (always for compact
+    /// ones).
+    pub through_top: bool,
     /// `out_ready` low in this share of cycles (percent, seeded per tile).
     pub stall_percent: u32,
 }
@@ -93,16 +97,37 @@ impl TopOptions {
         TopOptions {
             processor: ProcessorKind::Compact,
             procs,
+            through_top: true,
             stall_percent: 0,
         }
     }
 
-    /// The fast processor, never stalled.
+    /// The fast processor, bare (its own streams), never stalled.
     pub fn fast() -> TopOptions {
         TopOptions {
             processor: ProcessorKind::Fast,
             procs: 1,
+            through_top: false,
             stall_percent: 0,
+        }
+    }
+
+    /// The top of `procs` fast processors (rtl/top.v with `FAST = 1`),
+    /// never stalled.
+    pub fn fast_top(procs: u32) -> TopOptions {
+        TopOptions {
+            processor: ProcessorKind::Fast,
+            procs,
+            through_top: true,
+            stall_percent: 0,
+        }
+    }
+
+    /// Pixel contexts in all: a compact processor has one.
+    pub fn contexts(&self) -> u32 {
+        match self.processor {
+            ProcessorKind::Compact => self.procs,
+            ProcessorKind::Fast => self.procs * FAST_CONTEXTS,
         }
     }
 
@@ -110,9 +135,10 @@ impl TopOptions {
     /// with the options' timeout and fault.
     pub fn build_for(&self, scene: &Scene, options: &CosimOptions) -> Result<Top, PpError> {
         let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
-        let mut t = match self.processor {
-            ProcessorKind::Compact => Top::new(self.procs, recip, sqrt),
-            ProcessorKind::Fast => Top::new_fast(recip, sqrt),
+        let mut t = match (self.processor, self.through_top) {
+            (ProcessorKind::Compact, _) => Top::new(self.procs, recip, sqrt),
+            (ProcessorKind::Fast, false) => Top::new_fast(recip, sqrt),
+            (ProcessorKind::Fast, true) => Top::new_fast_procs(self.procs, recip, sqrt),
         }?;
         t.set_timeout_cycles(options.timeout_cycles);
         t.set_fault(options.fault, u32::MAX);
@@ -124,15 +150,20 @@ impl TopOptions {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TopReport {
     pub processor: ProcessorKind,
-    /// Processors of the top, or the fast processor's contexts.
+    /// Processors (1: the bare fast processor).
     pub procs: u32,
+    /// Whether rtl/top.v was around them.
+    pub through_top: bool,
+    /// Pixel contexts in all (a compact processor has one).
+    pub contexts: u32,
     pub tiles: u64,
     /// The tiles' costs added up: frame cycles are the sum of each tile's
     /// first coordinate in to last result out.
     pub stats: FrameStats,
-    /// The fast processor: the frame cycles the barrel rule predicts for
-    /// the tiles (`golden::micro::barrel::run` + [`FAST_FRAME_OVERHEAD`]
-    /// each), which `stats.frame_cycles` must equal.
+    /// Fast processors: the frame cycles their rule predicts for the tiles
+    /// (bare: `golden::micro::barrel::run` + [`FAST_FRAME_OVERHEAD`] each;
+    /// through the top: `golden::micro::barrel::run_top`), which
+    /// `stats.frame_cycles` must equal.
     pub predicted_frame_cycles: Option<u64>,
 }
 
@@ -143,9 +174,9 @@ impl TopReport {
             .map_or(true, |p| p == self.stats.frame_cycles)
     }
 
-    /// The share of processor cycles without a pixel.
+    /// The share of context cycles without a pixel.
     pub fn idle_share(&self) -> f64 {
-        self.stats.idle_share(self.procs)
+        self.stats.idle_share(self.contexts)
     }
 }
 
@@ -208,19 +239,31 @@ impl fmt::Display for CosimReport {
         }
         writeln!(f, ": {} pixels", self.compare.counts.pixels)?;
         if let Some(t) = self.top.filter(|t| t.processor == ProcessorKind::Fast) {
+            let rule = if t.through_top {
+                "the top's rule"
+            } else {
+                "the barrel rule"
+            };
             writeln!(
                 f,
-                "  {} contexts, {} tile{}: {} frame cycles (first coordinate in to last result \
+                "  {}, {} tile{}: {} frame cycles (first coordinate in to last result \
                  out; {:.2} a pixel), {}; {:.1}% of context cycles without a pixel, {} batches",
-                t.procs,
+                if t.through_top {
+                    format!(
+                        "top: {} processor{} of {FAST_CONTEXTS} contexts",
+                        t.procs,
+                        if t.procs == 1 { "" } else { "s" }
+                    )
+                } else {
+                    format!("{} contexts", t.contexts)
+                },
                 t.tiles,
                 if t.tiles == 1 { "" } else { "s" },
                 t.stats.frame_cycles,
                 t.stats.frame_cycles as f64 / t.stats.pixels.max(1) as f64,
                 match t.predicted_frame_cycles {
-                    Some(p) if p == t.stats.frame_cycles =>
-                        "as the barrel rule predicts".to_string(),
-                    Some(p) => format!("DIVERGENT: the barrel rule predicts {p}"),
+                    Some(p) if p == t.stats.frame_cycles => format!("as {rule} predicts"),
+                    Some(p) => format!("DIVERGENT: {rule} predicts {p}"),
                     None => "no prediction (the result stream was held back)".to_string(),
                 },
                 100.0 * t.idle_share(),
@@ -526,15 +569,17 @@ fn run_tile(
         t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
         Ok(())
     };
-    // With the result stream held back, the fast processor refuses takes
-    // while 2K pixels are held: a first run of the tile finds those cycles
-    // (from the handshakes), and the barrel rule predicts the second, the
-    // same run again (the model and the stalls are deterministic).
-    let mut refused = Vec::new();
+    // With the result stream held back, a first run of the tile finds the
+    // cycles the rule needs (the model and the stalls are deterministic,
+    // so the second run is the same): for the bare fast processor, those in
+    // which it refuses takes (2K pixels held, from the handshakes); for a
+    // top of fast processors, those with out_ready low.
+    let (mut refused, mut stalled) = (Vec::new(), Vec::new());
     if fast && top.stall_percent > 0 {
         start(t)?;
         t.run_frame(Source::Stream(&coords), &mut |_| {})?;
         refused = t.refused_takes();
+        stalled = t.stalled_cycles();
     }
     start(t)?;
     let (barrel_cycles, predicted) = if fast {
@@ -542,14 +587,28 @@ fn run_tile(
             .iter()
             .map(|&(x, y)| PixelWork::of(&golden.render_pixel(x, y, |_, _| {})))
             .collect();
-        let run = barrel::run_gated(FAST_CONTEXTS, &work, &|c| {
-            refused.binary_search(&c).is_err()
-        });
-        let cycles: Vec<u64> = run.pixels.iter().map(|p| p.cycles()).collect();
-        // Results held back leave when the stream takes them: the frame's
-        // end is the barrel's only with the stream always ready.
-        let frame = (top.stall_percent == 0).then_some(run.cycles + FAST_FRAME_OVERHEAD);
-        (cycles, frame)
+        if top.through_top {
+            // Every processor's ring turns together from reset; the arbiter
+            // starts at processor 0 (load_scene resets).
+            let start = TopStart {
+                procs: top.procs,
+                contexts: FAST_CONTEXTS,
+                phase: t.turn_phase(),
+                last_grant: 0,
+            };
+            let run = barrel::run_top(start, &work, &|c| stalled.binary_search(&c).is_err());
+            let cycles = run.pixels.iter().map(|p| p.run.cycles()).collect();
+            (cycles, Some(run.frame_cycles))
+        } else {
+            let run = barrel::run_gated(FAST_CONTEXTS, &work, &|c| {
+                refused.binary_search(&c).is_err()
+            });
+            let cycles: Vec<u64> = run.pixels.iter().map(|p| p.cycles()).collect();
+            // Results held back leave when the stream takes them: the
+            // frame's end is the barrel's only with the stream always ready.
+            let frame = (top.stall_percent == 0).then_some(run.cycles + FAST_FRAME_OVERHEAD);
+            (cycles, frame)
+        }
     } else {
         (Vec::new(), None)
     };
@@ -611,7 +670,9 @@ fn top_report(
     let mut r = report(scene, window, options, compare, colours);
     r.top = Some(TopReport {
         processor: top.processor,
-        procs: if fast { FAST_CONTEXTS } else { top.procs },
+        procs: top.procs,
+        through_top: top.through_top,
+        contexts: top.contexts(),
         tiles,
         stats,
         predicted_frame_cycles: predicted.filter(|_| fast),

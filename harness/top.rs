@@ -168,6 +168,23 @@ impl Top {
         Ok(Top::around(inner, FAST_CONTEXTS, recip, sqrt))
     }
 
+    /// Builds and resets the top of `procs` fast processors (`rtl/top.v`
+    /// with `FAST = 1`) with `RECIP_METHOD = recip` and `SQRT_METHOD =
+    /// sqrt`, driven as a top whose processors are its processors'
+    /// contexts, processor p's context c being number p x
+    /// [`FAST_CONTEXTS`] + c: a pixel's cycles are the top's rule's
+    /// (`golden::micro::barrel::run_top`).
+    pub fn new_fast_procs(procs: u32, recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        let inner = ffi::new_fast_procs_top(procs, recip.code(), sqrt.code()).map_err(|e| {
+            PpError::Build {
+                recip,
+                sqrt,
+                message: e.what().to_string(),
+            }
+        })?;
+        Ok(Top::around(inner, procs * FAST_CONTEXTS, recip, sqrt))
+    }
+
     fn around(inner: UniquePtr<ffi::TopSim>, procs: u32, recip: Method, sqrt: Method) -> Top {
         let mut top = Top {
             procs,
@@ -377,6 +394,22 @@ impl Top {
         let mut out = Vec::new();
         self.inner.refused_takes(&mut out);
         out
+    }
+
+    /// The cycles of the last frame, counted from the one that took its
+    /// first coordinate, in which out_ready was low (the backpressure
+    /// [`Top::set_backpressure`] drew).
+    pub fn stalled_cycles(&self) -> Vec<u64> {
+        let mut out = Vec::new();
+        self.inner.stalled_cycles(&mut out);
+        out
+    }
+
+    /// Fast processors: the context whose turn the next cycle is (every
+    /// processor's ring turns together), read from the model with no edge;
+    /// 0 for compact processors.
+    pub fn turn_phase(&mut self) -> u32 {
+        self.inner.pin_mut().turn_phase()
     }
 
     /// Splits this batch's events by processor and hands every result to

@@ -74,9 +74,9 @@
 // arbiter takes it from there. out_cycles is the processor's count (the
 // barrel rule's, golden::micro::barrel) and out_ctx the context that ran
 // the pixel; a processor is busy (scene_ready, trace_busy) while it holds a
-// pixel. Trace: lane i of trace_ctx, trace_take, trace_done and
-// trace_turn_ctx is processor i's port of the same name, and trace_px,
-// trace_py the pixel of its write.
+// pixel. Trace: lane i of trace_ctx, trace_take, trace_take_px/py,
+// trace_done and trace_turn_ctx is processor i's port of the same name, and
+// trace_px, trace_py the pixel of its write.
 // ============================================================================
 module top #(
     parameter integer N            = 4,
@@ -128,6 +128,8 @@ module top #(
     output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_py,
     output wire [N*CTX_BITS-1:0]            trace_ctx,       // FAST; 0 otherwise
     output wire [N-1:0]                     trace_take,      // FAST; 0 otherwise
+    output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_take_px,   // FAST; 0 otherwise
+    output wire [N*`ISA_DIM_COORD_BITS-1:0] trace_take_py,   // FAST; 0 otherwise
     output wire [N-1:0]                     trace_done,      // FAST; 0 otherwise
     output wire [N*CTX_BITS-1:0]            trace_turn_ctx,  // FAST; 0 otherwise
     input  wire [`ISA_DIM_ST_BITS-1:0]      fault_state,
@@ -397,6 +399,8 @@ module top #(
                 assign trace_py[gi*CW +: CW]                   = tag_y_q;
                 assign trace_ctx[gi*CTX_BITS +: CTX_BITS]      = {CTX_BITS{1'b0}};
                 assign trace_take[gi]                          = 1'b0;
+                assign trace_take_px[gi*CW +: CW]              = {CW{1'b0}};
+                assign trace_take_py[gi*CW +: CW]              = {CW{1'b0}};
                 assign trace_done[gi]                          = 1'b0;
                 assign trace_turn_ctx[gi*CTX_BITS +: CTX_BITS] = {CTX_BITS{1'b0}};
 `endif
@@ -441,6 +445,8 @@ module top #(
                     .trace_lanes    (trace_lanes[gi*3 +: 3]),
                     .trace_value    (trace_value[gi*96 +: 96]),
                     .trace_take     (trace_take[gi]),
+                    .trace_take_px  (trace_take_px[gi*CW +: CW]),
+                    .trace_take_py  (trace_take_py[gi*CW +: CW]),
                     .trace_done     (trace_done[gi]),
                     .trace_turn_ctx (trace_turn_ctx[gi*CTX_BITS +: CTX_BITS]),
                     .fault_state    (fault_state),

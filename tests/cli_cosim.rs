@@ -638,14 +638,71 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         both(&out)
     );
 
-    let cases: [(&[&str], &str); 5] = [
+    // Through the top of two fast processors, the result stream held back.
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "0,4,39,11",
+        "--processor",
+        "fast",
+        "--procs",
+        "2",
+        "--stall",
+        "50",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.lines().next().is_some_and(|l| l.contains(
+            ", through the top with 2 processors of 32 contexts (result stream held back 50% of cycles), "
+        )),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("top: 2 processors of 32 contexts, 2 tiles: ")
+            && stdout.contains("as the top's rule predicts"),
+        "{stdout}"
+    );
+    assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+    assert!(stdout.contains("PASS: "), "{stdout}");
+
+    // A top not built: found when the model is built, named with the way
+    // to build it.
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--window",
+        "0,0",
+        "--processor",
+        "fast",
+        "--procs",
+        "3",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", both(&out));
+    assert!(
+        text(&out.stderr).contains(
+            "no top of 3 fast processors was verilated with recip method 0 and sqrt method 0 \
+             (build with RTCOSIM_TOPS=fast:N or fast:N:recip:sqrt to add it)"
+        ),
+        "{}",
+        both(&out)
+    );
+
+    let cases: [(&[&str], &str); 6] = [
         (
             &["--processor", "fastest"],
             "invalid value 'fastest' for '--processor <PROCESSOR>'",
         ),
         (
-            &["--processor", "fast", "--procs", "4"],
-            "--procs drives rtl/top.v, whose processors are compact ones",
+            &["--procs", "9"],
+            "--procs 9: a top of compact processors has at most 8",
+        ),
+        (
+            &["--processor", "fast", "--procs", "65"],
+            "invalid value '65' for '--procs <N>'",
         ),
         (
             &["--processor", "fast", "--trace", "t.trace"],

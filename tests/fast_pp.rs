@@ -4,7 +4,10 @@
 //! cycles and context, and the frame's cycles, are the barrel rule's
 //! (golden::micro::barrel) for the pixels in the order they were fed.
 //! Each checker is shown to fail: a fault planted in the RTL's writes, and
-//! a barrel of the wrong size, are reported.
+//! a barrel of the wrong size, are reported. The same for a top of fast
+//! processors (rtl/top.v with FAST = 1), whose pixels' processors, contexts
+//! and cycles, and frames' cycles, are the top's rule's
+//! (golden::micro::barrel::run_top).
 
 use golden::micro::barrel::{self, PixelWork};
 use golden::micro::fault::Fault;
@@ -151,23 +154,16 @@ fn fast_processor_checkers_fail_on_injected_faults() {
 }
 
 /// Every builtin scene, a whole reduced frame, through the co-simulation
-/// engine (`cosim::run_top`, tiles of 4 rows): every event, colour and
-/// pixel cycle count, and each tile's frame cycles, as golden and the
-/// barrel rule say.
-#[test]
-fn every_builtin_scene_agrees_on_the_fast_processor() {
-    use rtcosim::cosim::{self, CosimOptions, TopOptions};
+/// engine (`cosim::run_top`, tiles of 4 rows) with `top`: every event,
+/// colour and pixel cycle count, and each tile's frame cycles, as golden
+/// and the processors' rule say.
+fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
+    use rtcosim::cosim::{self, CosimOptions};
     for &name in Scene::builtin_names() {
         let scene = builtin(name, 32, 24);
         let window = Window::full(&scene);
-        let r = cosim::run_top(
-            &scene,
-            window,
-            &CosimOptions::default(),
-            &TopOptions::fast(),
-            &|_| {},
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let r = cosim::run_top(&scene, window, &CosimOptions::default(), top, &|_| {})
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let c = &r.compare.counts;
         assert_eq!(c.pixels, window.pixels(), "{name}\n{r}");
         assert!(
@@ -175,13 +171,20 @@ fn every_builtin_scene_agrees_on_the_fast_processor() {
             "{name}\n{r}"
         );
         assert_eq!(c.a_cycles, c.b_cycles, "{name}\n{r}");
-        let t = r.top.expect("the fast processor's report");
+        let t = r.top.expect("the top's report");
         assert!(
             t.predicted_frame_cycles.is_some() && t.frame_cycles_agree(),
             "{name}\n{r}"
         );
+        assert_eq!((t.procs, t.contexts), (top.procs, top.contexts()), "{name}");
         assert!(r.passed(), "{name}\n{r}");
     }
+}
+
+/// `cosim --processor fast`: the bare fast processor, the barrel rule.
+#[test]
+fn every_builtin_scene_agrees_on_the_fast_processor() {
+    assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast());
 }
 
 /// Backpressure: the result stream held back in 99% of the cycles fills
@@ -239,4 +242,192 @@ fn fast_processor_is_exact_under_backpressure() {
         cycles.iter().any(|&(at, c)| c != predicted(&open, at)),
         "the refusals changed no pixel's cycles: the check would not see them"
     );
+}
+
+// ---------------------------------------------------------------------------
+// A top of fast processors (rtl/top.v with FAST = 1)
+// ---------------------------------------------------------------------------
+
+/// Processors of the top of fast processors the default build verilates.
+const TOP_PROCS: u32 = 2;
+
+/// Runs `coords` (each once) of `scene` through the top of [`TOP_PROCS`]
+/// fast processors with `fault` planted and out_ready low in
+/// `stall_percent` % of the cycles, and checks it against golden and the
+/// top's rule for `rule` = (processors, contexts), told of the stalled
+/// cycles if `rule_sees_stalls`: every write and colour, each pixel's
+/// processor, context and cycles, and the frame's cycles. The divergences
+/// found, one line each.
+fn cosim_top(
+    scene: &Scene,
+    coords: &[(u32, u32)],
+    fault: Option<Fault>,
+    stall_percent: u32,
+    rule: (u32, u32),
+    rule_sees_stalls: bool,
+) -> Vec<String> {
+    let g = Processor::new(scene);
+    let mut t = Top::new_fast_procs(TOP_PROCS, scene.render.recip, scene.render.sqrt)
+        .unwrap_or_else(|e| panic!("{e}"));
+    t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
+    t.set_fault(fault, u32::MAX);
+    t.set_backpressure(3, stall_percent);
+    let phase = t.turn_phase();
+    let mut bad = Vec::new();
+    let mut got = Vec::new();
+    let stats = t
+        .run_frame(Source::Stream(coords), &mut |p| {
+            let mut events = Vec::new();
+            let r = g.render_pixel(p.x, p.y, |e, _| events.push(*e));
+            if let Some(d) = pixel_diff(p.events, &events) {
+                bad.push(format!("({}, {}): {d}", p.x, p.y));
+            }
+            if p.outcome.rgb != r.rgb.map(f32::to_bits) {
+                bad.push(format!("({}, {}): colour", p.x, p.y));
+            }
+            got.push(((p.x, p.y), p.processor, p.outcome.cycles));
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(got.len(), coords.len(), "every pixel came back");
+    let stalled = t.stalled_cycles();
+    assert_eq!(
+        stalled.is_empty(),
+        stall_percent == 0,
+        "out_ready low in {} cycles at {stall_percent}%",
+        stalled.len()
+    );
+    let work: Vec<PixelWork> = coords
+        .iter()
+        .map(|&(x, y)| PixelWork::of(&g.render_pixel(x, y, |_, _| {})))
+        .collect();
+    let start = barrel::TopStart {
+        procs: rule.0,
+        contexts: rule.1,
+        phase: phase % rule.1,
+        last_grant: 0,
+    };
+    let run = barrel::run_top(start, &work, &|c| {
+        !rule_sees_stalls || stalled.binary_search(&c).is_err()
+    });
+    for &(at, slot, cycles) in &got {
+        let i = coords.iter().position(|&c| c == at).expect("a pixel fed");
+        let want = run.pixels[i];
+        let got = (slot / FAST_CONTEXTS, slot % FAST_CONTEXTS, cycles);
+        let rule = (want.proc, want.run.context, want.run.cycles());
+        if got != rule {
+            bad.push(format!(
+                "{at:?}: processor, context, cycles {got:?}; top rule {rule:?}"
+            ));
+        }
+    }
+    if stats.frame_cycles != run.frame_cycles {
+        bad.push(format!(
+            "the frame took {} cycles; the top rule {}",
+            stats.frame_cycles, run.frame_cycles
+        ));
+    }
+    bad
+}
+
+/// 144 pixels: processor 0's 32 contexts and queue fill first, the rest go
+/// to processor 1, and their results meet at the arbiter.
+#[test]
+fn a_top_of_fast_processors_agrees_with_golden_and_its_rule() {
+    let scene = builtin("reference", 40, 30);
+    let coords = window(4, 6, 24, 6);
+    assert_exact(&cosim_top(
+        &scene,
+        &coords,
+        None,
+        0,
+        (TOP_PROCS, FAST_CONTEXTS),
+        true,
+    ));
+    // One pixel, and fewer pixels than one processor's contexts.
+    assert_exact(&cosim_top(
+        &scene,
+        &[(3, 4)],
+        None,
+        0,
+        (TOP_PROCS, FAST_CONTEXTS),
+        true,
+    ));
+    assert_exact(&cosim_top(
+        &scene,
+        &window(20, 14, 5, 1),
+        None,
+        0,
+        (TOP_PROCS, FAST_CONTEXTS),
+        true,
+    ));
+}
+
+/// The result stream held back: results wait in the out register and the
+/// processors' result queues, the processors refuse takes when 2K pixels
+/// are held, the stage and the queues fill; every pixel is exact and its
+/// cycles, processor and context are still the rule's (with out_ready as
+/// the run drew it), which differ from the rule's with out_ready always
+/// high.
+#[test]
+fn a_top_of_fast_processors_is_exact_under_backpressure() {
+    let scene = builtin("overexposed", 40, 30);
+    let coords = window(0, 0, 40, 4);
+    for stall in [60, 99] {
+        assert_exact(&cosim_top(
+            &scene,
+            &coords,
+            None,
+            stall,
+            (TOP_PROCS, FAST_CONTEXTS),
+            true,
+        ));
+    }
+    // The same run against the rule without the stalls: the check sees them.
+    let bad = cosim_top(&scene, &coords, None, 99, (TOP_PROCS, FAST_CONTEXTS), false);
+    assert!(
+        bad.iter().any(|b| b.contains("top rule")),
+        "{}",
+        bad.join("\n")
+    );
+}
+
+/// The checkers fail: a fault in the RTL's writes is a divergence of every
+/// pixel it touches, and the rule for another number of processors or
+/// contexts predicts other placements or cycles.
+#[test]
+fn a_top_of_fast_processors_checkers_fail_on_injected_faults() {
+    let scene = builtin("reference", 40, 30);
+    let coords = window(4, 6, 24, 4);
+    let fault = Fault {
+        state: state::PRI_HALF,
+        xor: 1 << 20,
+    };
+    let bad = cosim_top(
+        &scene,
+        &coords,
+        Some(fault),
+        0,
+        (TOP_PROCS, FAST_CONTEXTS),
+        true,
+    );
+    let written = bad.iter().filter(|b| b.contains("write #1: rtl")).count();
+    assert_eq!(written, coords.len(), "{}", bad.join("\n"));
+    for rule in [
+        (TOP_PROCS + 1, FAST_CONTEXTS),
+        (TOP_PROCS, FAST_CONTEXTS - 1),
+    ] {
+        let bad = cosim_top(&scene, &coords, None, 0, rule, true);
+        assert!(
+            bad.iter().any(|b| b.contains("top rule")),
+            "{rule:?}: {}",
+            bad.join("\n")
+        );
+    }
+}
+
+/// `cosim --processor fast --procs 2`: the top of fast processors, the
+/// top's rule.
+#[test]
+fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
+    assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast_top(TOP_PROCS));
 }

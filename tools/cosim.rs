@@ -14,6 +14,9 @@ use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::processor::ProcessorKind;
 use rtcosim::top::FAST_CONTEXTS;
+
+/// The largest top of compact processors build.rs verilates on request.
+const MAX_COMPACT_PROCS: u32 = 8;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -32,16 +35,21 @@ pub struct CosimArgs {
     /// The pixel processor: compact (rtl/pp/pixel_processor.v, one pixel at
     /// a time) or fast (rtl/fast/fast_pp.v: 32 pixel contexts in turns,
     /// pipelined, its cycles the barrel rule's, golden::micro::barrel; run
-    /// through its streams, the window in tiles of 4 rows).
+    /// through its streams, the window in tiles of 4 rows; with --procs N,
+    /// N of them through rtl/top.v).
     #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
     pub processor: ProcessorKind,
     /// Drive the top module (rtl/top.v) with N pixel processors instead of
     /// one bare pixel processor per thread: tiles of the window are streamed
     /// through one top per thread, and the report adds the top's frame
-    /// cycles and its dispatcher's idle share. N = 1 and 4 with the exact
-    /// methods are always built; others with RTCOSIM_TOPS=N[:recip:sqrt],...
-    /// set for the build (e.g. RTCOSIM_TOPS=2,8).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=8))]
+    /// cycles and its dispatcher's idle share. Compact: N = 1 and 4 with
+    /// the exact methods are always built; others with
+    /// RTCOSIM_TOPS=N[:recip:sqrt],... set for the build (e.g.
+    /// RTCOSIM_TOPS=2,8), N up to 8. Fast (--processor fast): N = 2 exact
+    /// is built, others with RTCOSIM_TOPS=fast:N[:recip:sqrt], N up to 64;
+    /// each pixel's cycles and the frame's are the top's rule's
+    /// (golden::micro::barrel::run_top).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
     pub procs: Option<u32>,
     /// With --procs: hold the top's result stream back (out_ready low) in
     /// this percentage of the cycles, drawn from a seeded generator.
@@ -102,10 +110,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         check_parent_dir("--trace", path)?;
     }
     let fast = args.processor == ProcessorKind::Fast;
-    if fast && args.procs.is_some() {
+    if let Some(n) = args.procs.filter(|&n| !fast && n > MAX_COMPACT_PROCS) {
         anyhow::bail!(
-            "--procs drives rtl/top.v, whose processors are compact ones; the fast processor \
-             runs its 32 contexts without a top: drop --procs or --processor fast"
+            "--procs {n}: a top of compact processors has at most {MAX_COMPACT_PROCS} (the \
+             fast processor's top goes to 64: --processor fast)"
         );
     }
     if fast && (args.trace.is_some() || args.wave.wave.is_some()) {
@@ -148,8 +156,13 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         plural(threads as u64),
         match (args.procs, args.stall) {
             (Some(n), _) => format!(
-                ", through the top with {n} processor{}",
-                plural(u64::from(n))
+                ", through the top with {n} processor{}{}",
+                plural(u64::from(n)),
+                if fast {
+                    format!(" of {FAST_CONTEXTS} contexts")
+                } else {
+                    String::new()
+                }
             ),
             (None, _) if fast => format!(", {FAST_CONTEXTS} contexts"),
             _ => String::new(),
@@ -184,7 +197,8 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     )?;
     let start = Instant::now();
     let top = match (args.processor, args.procs) {
-        (ProcessorKind::Fast, _) => Some(TopOptions::fast()),
+        (ProcessorKind::Fast, Some(procs)) => Some(TopOptions::fast_top(procs)),
+        (ProcessorKind::Fast, None) => Some(TopOptions::fast()),
         (ProcessorKind::Compact, Some(procs)) => Some(TopOptions::compact(procs)),
         (ProcessorKind::Compact, None) => None,
     }

@@ -48,6 +48,13 @@ public:
     // not yet out), so that a take had to be refused; counted here from
     // the handshakes seen, not read from the model. Empty for the top.
     virtual void refused_takes(rust::Vec<std::uint64_t>& out) const = 0;
+    // The cycles of the last frame, counted from the one that took its
+    // first coordinate, in which out_ready was low.
+    virtual void stalled_cycles(rust::Vec<std::uint64_t>& out) const = 0;
+    // Fast processors: the context whose turn the next cycle is (every
+    // processor's ring turns together); 0 for compact ones. Evaluates the
+    // model with clk low and no coordinate offered: no edge.
+    virtual std::uint32_t turn_phase() = 0;
 };
 
 // Builds and resets the top verilated with `procs` processors and these
@@ -58,5 +65,10 @@ std::unique_ptr<TopSim> new_top(std::uint32_t procs, std::uint32_t recip_method,
 // verilated with these method codes and exposure, driven as a top whose
 // processors are its contexts; throws if that variant was not built.
 std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
+
+// Builds and resets the top of `procs` fast processors (rtl/top.v with
+// FAST = 1) verilated with these method codes; its slots are processor *
+// 32 + context. Throws if that variant was not built.
+std::unique_ptr<TopSim> new_fast_procs_top(std::uint32_t procs, std::uint32_t recip_method, std::uint32_t sqrt_method);
 
 }  // namespace rtcosim

@@ -43,7 +43,8 @@
 //
 // With PP_TRACE (the co-simulation; never for synthesis) the trace port
 // shows every register-file write in the cycle whose edge performs it, with
-// the context and its pixel; trace_take and trace_done mark the take of a
+// the context and its pixel; trace_take (the pixel taken on
+// trace_take_px, trace_take_py) and trace_done mark the take of a
 // pixel and the done turn of context trace_turn_ctx; and the fault port
 // XORs lane x of every write of state fault_state with fault_xor, in the
 // register file too.
@@ -87,6 +88,8 @@ module fast_pp #(
     output wire [2:0]                       trace_lanes,
     output wire [95:0]                      trace_value,
     output wire                             trace_take,
+    output wire [`ISA_DIM_COORD_BITS-1:0]   trace_take_px,
+    output wire [`ISA_DIM_COORD_BITS-1:0]   trace_take_py,
     output wire                             trace_done,
     output wire [CTX_BITS-1:0]              trace_turn_ctx,
     input  wire [`ISA_DIM_ST_BITS-1:0]      fault_state,
@@ -337,6 +340,8 @@ module fast_pp #(
     assign trace_lanes    = back_mask;
     assign trace_value    = wd & {{32{back_mask[2]}}, {32{back_mask[1]}}, {32{back_mask[0]}}};
     assign trace_take     = take;
+    assign trace_take_px  = head_x;
+    assign trace_take_py  = head_y;
     assign trace_done     = done;
     assign trace_turn_ctx = turn_ctx;
 `endif

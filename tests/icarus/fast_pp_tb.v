@@ -63,6 +63,7 @@ module fast_pp_tb;
     wire [31:0]         out_cycles;
 
     wire                trace_valid, trace_take, trace_done;
+    wire [CW-1:0]       trace_take_px, trace_take_py;
     wire [CTX_BITS-1:0] trace_ctx, trace_turn_ctx;
     wire [CW-1:0]       trace_px, trace_py;
     wire [SW-1:0]       trace_state;
@@ -105,6 +106,8 @@ module fast_pp_tb;
         .trace_lanes    (trace_lanes),
         .trace_value    (trace_value),
         .trace_take     (trace_take),
+        .trace_take_px  (trace_take_px),
+        .trace_take_py  (trace_take_py),
         .trace_done     (trace_done),
         .trace_turn_ctx (trace_turn_ctx),
         .fault_state    (fault_state),
@@ -185,7 +188,7 @@ module fast_pp_tb;
                 given = given + 1;
                 quiet = 0;
             end
-            if (trace_take) $display("TAKE %0d %0d %0d", trace_turn_ctx, dut.head_x, dut.head_y);
+            if (trace_take) $display("TAKE %0d %0d %0d", trace_turn_ctx, trace_take_px, trace_take_py);
             if (trace_valid)
                 $display("EV %0d %0d %0d %0d %0d %0d %h %h %h", trace_ctx, trace_px, trace_py, trace_state,
                          trace_dst, trace_lanes, trace_value[31:0], trace_value[63:32], trace_value[95:64]);

@@ -53,7 +53,7 @@ module fast_top_tb;
 
     wire [N-1:0]          trace_valid, trace_busy, trace_take, trace_done;
     wire [N*CTX_BITS-1:0] trace_ctx, trace_turn_ctx;
-    wire [N*CW-1:0]       trace_px, trace_py;
+    wire [N*CW-1:0]       trace_px, trace_py, trace_take_px, trace_take_py;
     wire [N*SW-1:0]       trace_state;
     wire [N*RW-1:0]       trace_dst;
     wire [N*3-1:0]        trace_lanes;
@@ -105,6 +105,8 @@ module fast_top_tb;
         .trace_py       (trace_py),
         .trace_ctx      (trace_ctx),
         .trace_take     (trace_take),
+        .trace_take_px  (trace_take_px),
+        .trace_take_py  (trace_take_py),
         .trace_done     (trace_done),
         .trace_turn_ctx (trace_turn_ctx),
         .fault_state    (fault_state),
@@ -112,15 +114,6 @@ module fast_top_tb;
         .fault_procs    ({N{1'b1}})
     );
 
-    // The coordinates at the head of processor p's queue (what a take takes).
-    wire [N*CW-1:0] heads_x, heads_y;
-    genvar gp;
-    generate
-        for (gp = 0; gp < N; gp = gp + 1) begin : g_head
-            assign heads_x[gp*CW +: CW] = dut.g_pp[gp].g_fast.u_pp.head_x;
-            assign heads_y[gp*CW +: CW] = dut.g_pp[gp].g_fast.u_pp.head_y;
-        end
-    endgenerate
 
     reg [111:0] writes [0:MAX_WRITES-1];
     reg [31:0]  pixels [0:MAX_PIXELS-1];
@@ -202,7 +195,7 @@ module fast_top_tb;
             for (p = 0; p < N; p = p + 1) begin
                 if (trace_take[p])
                     $display("TAKE %0d %0d %0d", (p << CTX_BITS) + trace_turn_ctx[p*CTX_BITS +: CTX_BITS],
-                             heads_x[p*CW +: CW], heads_y[p*CW +: CW]);
+                             trace_take_px[p*CW +: CW], trace_take_py[p*CW +: CW]);
                 if (trace_valid[p])
                     $display("EV %0d %0d %0d %0d %0d %0d %h %h %h", (p << CTX_BITS) + trace_ctx[p*CTX_BITS +: CTX_BITS],
                              trace_px[p*CW +: CW], trace_py[p*CW +: CW], trace_state[p*SW +: SW],
