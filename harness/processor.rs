@@ -7,7 +7,9 @@
 //! - [`ProcessorKind::Fast`]: `rtl/fast/fast_pp.v`, 32 pixel contexts taking
 //!   turns, pipelined units, one micro-op a cycle; its cycles are the
 //!   barrel rule's (`golden::micro::barrel`), and it is driven through its
-//!   streams as a top of 32 contexts ([`crate::top::Top::new_fast`]).
+//!   streams as a top of 32 contexts ([`crate::top::Top::new_fast`]); N of
+//!   them through `rtl/top.v` (`FAST = 1`) follow the top's rule
+//!   (`golden::micro::barrel::run_top`, [`crate::top::Top::new_fast_procs`]).
 
 use std::fmt;
 

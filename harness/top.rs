@@ -2,7 +2,10 @@
 //! broadcast scene port, a coordinate stream (or the raster generator) in
 //! and a tagged result stream out, verilated with every processor's trace
 //! port (`PP_TRACE`) for the N and method pairs of `build.rs`
-//! (`TOP_VARIANTS`: N = 1 and 4, exact methods; more with `RTCOSIM_TOPS`).
+//! (`TOP_VARIANTS`: N = 1 and 4, exact methods, and a top of 2 fast
+//! processors; more with `RTCOSIM_TOPS`). The bare fast processor and a
+//! top of fast ones are driven the same way, their contexts in the place
+//! of the processors ([`Top::new_fast`], [`Top::new_fast_procs`]).
 //!
 //! # The streamed driver
 //!

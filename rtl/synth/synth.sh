@@ -4,6 +4,8 @@
 #
 #   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6
 #   rtl/synth/synth.sh xc6v top exact 4    # top, N = 4, pixel_processor a black box
+#   rtl/synth/synth.sh xc6v fast-top exact 34 # top of fast processors (FAST = 1), N = 34,
+#                                          # fast_pp a black box
 #   rtl/synth/synth.sh ecp5 pp exact       # pixel_processor, ECP5 (for nextpnr)
 #   rtl/synth/synth.sh ecp5 add exact      # fp_add between registers (tests/synth/fp_reg.v);
 #                                          # mul: fp_mul (methods: no effect)
@@ -38,7 +40,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast [N|noexp]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast [N|noexp]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -81,6 +83,14 @@ top)
     read="read_verilog -lib -Irtl/fp -Irtl/pp rtl/pp/pixel_processor.v; read_verilog $inc rtl/top.v"
     params="$params -chparam N $n"
     out=$device-top-$methods-N$n
+    ;;
+fast-top)
+    [ -n "$n" ] || { echo "$0: the top needs N" >&2; exit 2; }
+    top=top
+    # fast_pp as a black box: its ports and parameters only.
+    read="read_verilog -lib -Irtl/fp -Irtl/pp -Irtl/fast rtl/fast/fast_pp.v; read_verilog $inc -Irtl/fast rtl/top.v"
+    params="$params -chparam N $n -chparam FAST 1"
+    out=$device-fast-top-$methods-N$n
     ;;
 add | mul | fast-add | fast-mul | fast-itof | fast-recip | fast-sqrt | fast-exp)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
