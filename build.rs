@@ -131,12 +131,20 @@ const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.
-/// (fast, N, recip, sqrt): `fast` a top of fast processors (`FAST = 1`).
-const TOP_VARIANTS: &[(bool, u32, &str, &str)] = &[
-    (false, 1, "exact", "exact"),
-    (false, 4, "exact", "exact"),
-    (true, 2, "exact", "exact"),
+/// (fast, N, recip, sqrt, group): `fast` a top of fast processors (`FAST
+/// = 1`) with `ARB_GROUP = group` (processors per result group; the
+/// compact top has none). The default top of 2 fast processors puts each
+/// in a group of its own, so the tests see both the groups' registers and
+/// the arbiter over them.
+const TOP_VARIANTS: &[(bool, u32, &str, &str, u32)] = &[
+    (false, 1, "exact", "exact", 1),
+    (false, 4, "exact", "exact", 1),
+    (true, 2, "exact", "exact", 1),
 ];
+
+/// `ARB_GROUP` of the tops of fast processors `RTCOSIM_TOPS` asks for: the
+/// RTL's default.
+const FAST_TOP_GROUP: u32 = 6;
 
 /// More top variants: a comma-separated list of `N` (exact methods) or
 /// `N:recip:sqrt`, each with `fast:` before it for a top of fast
@@ -174,13 +182,15 @@ fn fast_variants(
         .collect()
 }
 
+/// A top variant wanted: (fast, N, recip, sqrt, group), as
+/// [`TOP_VARIANTS`].
+type TopWanted = (bool, u32, String, String, u32);
+
 /// [`TOP_VARIANTS`] and what [`TOPS`] asks for, each once.
-fn top_variants_wanted(
-    methods: &[(String, u32)],
-) -> Result<Vec<(bool, u32, String, String)>, String> {
-    let mut wanted: Vec<(bool, u32, String, String)> = TOP_VARIANTS
+fn top_variants_wanted(methods: &[(String, u32)]) -> Result<Vec<TopWanted>, String> {
+    let mut wanted: Vec<TopWanted> = TOP_VARIANTS
         .iter()
-        .map(|&(fast, n, r, s)| (fast, n, r.to_string(), s.to_string()))
+        .map(|&(fast, n, r, s, g)| (fast, n, r.to_string(), s.to_string(), g))
         .collect();
     let asked = env::var(TOPS).unwrap_or_default();
     for item in asked.split(',').map(str::trim).filter(|i| !i.is_empty()) {
@@ -213,9 +223,11 @@ fn top_variants_wanted(
         if !methods.iter().any(|(m, _)| m == recip) || !methods.iter().any(|(m, _)| m == sqrt) {
             return Err(bad());
         }
-        let v = (fast, n, recip.to_string(), sqrt.to_string());
-        if !wanted.contains(&v) {
-            wanted.push(v);
+        // One variant per (kind, N, methods): a default one stays.
+        let same = |w: &TopWanted| (w.0, w.1, w.2.as_str(), w.3.as_str()) == (fast, n, recip, sqrt);
+        if !wanted.iter().any(same) {
+            let group = if fast { FAST_TOP_GROUP } else { 1 };
+            wanted.push((fast, n, recip.to_string(), sqrt.to_string(), group));
         }
     }
     Ok(wanted)
@@ -502,7 +514,7 @@ fn run() -> Result<(), String> {
     // The top (rtl/top.v) with its trace ports, for the N and method pairs
     // of TOP_VARIANTS and those RTCOSIM_TOPS asks for.
     let mut top_variants = Vec::new();
-    for (fast, procs, recip, sqrt) in top_variants_wanted(&methods)? {
+    for (fast, procs, recip, sqrt, group) in top_variants_wanted(&methods)? {
         let (Some(recip_code), Some(sqrt_code)) =
             (method_code(&methods, &recip), method_code(&methods, &sqrt))
         else {
@@ -515,6 +527,7 @@ fn run() -> Result<(), String> {
             format!("Vtop_{kind}{procs}_{recip}_{sqrt}"),
             recip_code,
             sqrt_code,
+            group,
         ));
     }
     // A top of fast processors reads rtl/fast too.
@@ -523,15 +536,24 @@ fn run() -> Result<(), String> {
         .collect();
     let mut top_models: Vec<Model> = top_variants
         .iter()
-        .map(|(fast, procs, prefix, recip, sqrt)| Model {
+        .map(|(fast, procs, prefix, recip, sqrt, group)| Model {
             prefix: prefix.clone(),
             top: "top",
-            params: vec![
-                ("N", *procs),
-                ("RECIP_METHOD", *recip),
-                ("SQRT_METHOD", *sqrt),
-                ("FAST", u32::from(*fast)),
-            ],
+            params: if *fast {
+                vec![
+                    ("N", *procs),
+                    ("RECIP_METHOD", *recip),
+                    ("SQRT_METHOD", *sqrt),
+                    ("FAST", 1),
+                    ("ARB_GROUP", *group),
+                ]
+            } else {
+                vec![
+                    ("N", *procs),
+                    ("RECIP_METHOD", *recip),
+                    ("SQRT_METHOD", *sqrt),
+                ]
+            },
             defines: vec!["PP_TRACE"],
             includes: if *fast {
                 vec![fast_dir.clone(), pp_dir.clone(), fp_dir.clone()]
@@ -551,8 +573,13 @@ fn run() -> Result<(), String> {
         top_variants
             .iter()
             .filter(|v| v.0 == fast)
-            .map(|(_, procs, prefix, recip, sqrt)| {
-                (prefix.clone(), format!("{procs}, {recip}, {sqrt}"))
+            .map(|(_, procs, prefix, recip, sqrt, group)| {
+                let group = if fast {
+                    format!(", {group}")
+                } else {
+                    String::new()
+                };
+                (prefix.clone(), format!("{procs}, {recip}, {sqrt}{group}"))
             })
             .collect()
     };
@@ -564,7 +591,7 @@ fn run() -> Result<(), String> {
     )?;
     write_models(
         &out.join("rtcosim_fast_top_models.h"),
-        "the verilated tops of fast processors: X(class, N, recip code, sqrt code)",
+        "the verilated tops of fast processors: X(class, N, recip code, sqrt code, ARB_GROUP)",
         "RTCOSIM_FAST_TOP_MODELS",
         &listed(true),
     )?;

@@ -85,6 +85,7 @@ fn main() -> Result<()> {
             procs,
             contexts,
             phase: 0,
+            group: 6, // rtl/top.v's ARB_GROUP
             last_grant: 0,
         };
         let top = barrel::run_top(start, &work, &|_| true);

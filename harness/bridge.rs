@@ -359,6 +359,10 @@ pub(crate) mod ffi {
         /// compact ones); evaluates the model without an edge.
         fn turn_phase(self: Pin<&mut TopSim>) -> u32;
 
+        /// A top of fast processors: processors per result group
+        /// (`ARB_GROUP`); 1 for the others.
+        fn arb_group(self: &TopSim) -> u32;
+
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a
         /// watchdog trips; appends to `results` and `events`. Fails on a

@@ -594,6 +594,7 @@ fn run_tile(
                 procs: top.procs,
                 contexts: FAST_CONTEXTS,
                 phase: t.turn_phase(),
+                group: t.arb_group(),
                 last_grant: 0,
             };
             let run = barrel::run_top(start, &work, &|c| stalled.binary_search(&c).is_err());

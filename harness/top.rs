@@ -415,6 +415,12 @@ impl Top {
         self.inner.pin_mut().turn_phase()
     }
 
+    /// A top of fast processors: processors per result group (`ARB_GROUP`
+    /// of `rtl/top.v`, as this model was verilated); 1 for the others.
+    pub fn arb_group(&self) -> u32 {
+        self.inner.arb_group()
+    }
+
     /// Splits this batch's events by processor and hands every result to
     /// `each` with its pixel's events.
     fn deliver(

@@ -85,7 +85,8 @@ module top #(
     parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
     parameter integer FAST         = 0,   // 1: fast processors (rtl/fast/fast_pp.v)
     parameter integer EXPOSURE     = 1,   // FAST: 0 builds no exponential
-    parameter integer CTX_BITS     = 5    // FAST: 2^CTX_BITS contexts a processor
+    parameter integer CTX_BITS     = 5,   // FAST: 2^CTX_BITS contexts a processor
+    parameter integer ARB_GROUP    = 6    // FAST: processors per result group
 ) (
     input  wire                             clk,
     input  wire                             rst_n,
@@ -204,7 +205,14 @@ module top #(
     // ------------------------------------------------------------------------
     wire [N-1:0]    busy;        // the processor holds a pixel
     wire [N-1:0]    free;        // it may be given one
-    wire [N-1:0]    res_valid;   // its result slot is full
+
+    // The result slots the arbiter serves: each compact processor's own;
+    // for fast processors, the result register of each group of ARB_GROUP
+    // (below).
+    localparam integer G  = (FAST == 0) ? 1 : (ARB_GROUP < N) ? ARB_GROUP : N;
+    localparam integer S  = (N + G - 1) / G;
+    localparam integer GW = (G > 1) ? $clog2(G) : 1;
+    wire [S-1:0]    res_valid;   // slot full
     reg             pick_found;
     reg  [PW-1:0]   pick;
     integer         k;
@@ -234,9 +242,9 @@ module top #(
     always @* begin
         grant_found = 1'b0;
         grant       = {PW{1'b0}};
-        for (j = 1; j <= N; j = j + 1) begin
+        for (j = 1; j <= S; j = j + 1) begin
             idx = {{(32 - PW){1'b0}}, rr_q} + j;
-            if (idx >= N) idx = idx - N;
+            if (idx >= S) idx = idx - S;
             if (!grant_found && res_valid[idx]) begin
                 grant_found = 1'b1;
                 grant       = idx[PW-1:0];
@@ -252,10 +260,11 @@ module top #(
     reg  [31:0]     out_cycles_q;
     wire            out_load = (!out_valid_q || out_ready) && grant_found;
 
-    wire [N*CW-1:0] res_x_flat, res_y_flat;
-    wire [N*96-1:0] res_rgb_flat;
-    wire [N*32-1:0] res_cyc_flat;
-    wire [N*CTX_BITS-1:0] res_ctx_flat;
+    wire [S*CW-1:0] res_x_flat, res_y_flat;
+    wire [S*96-1:0] res_rgb_flat;
+    wire [S*32-1:0] res_cyc_flat;
+    wire [S*CTX_BITS-1:0] res_ctx_flat;
+    wire [S*PW-1:0] res_proc_flat;
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
@@ -272,7 +281,7 @@ module top #(
             if (grant_found) begin
                 out_x_q      <= res_x_flat[grant*CW +: CW];
                 out_y_q      <= res_y_flat[grant*CW +: CW];
-                out_proc_q   <= grant;
+                out_proc_q   <= res_proc_flat[grant*PW +: PW];
                 out_ctx_q    <= res_ctx_flat[grant*CTX_BITS +: CTX_BITS];
                 out_rgb_q    <= res_rgb_flat[grant*96 +: 96];
                 out_cycles_q <= res_cyc_flat[grant*32 +: 32];
@@ -299,9 +308,9 @@ module top #(
         for (gi = 0; gi < N; gi = gi + 1) begin : g_pp
             localparam [PW-1:0] ID = gi;
             wire          mine = dispatch && (pick == ID);
-            wire          take = out_load && (grant == ID);   // the slot empties
 
             if (FAST == 0) begin : g_compact
+                wire          take = out_load && (grant == ID);   // the slot empties
                 reg           busy_q, start_q, res_valid_q;
                 reg  [CW-1:0] tag_x_q, tag_y_q;
                 reg  [31:0]   cnt_q;
@@ -363,6 +372,14 @@ module top #(
                 assign res_rgb_flat[gi*96 +: 96]          = res_rgb_q;
                 assign res_cyc_flat[gi*32 +: 32]          = res_cyc_q;
                 assign res_ctx_flat[gi*CTX_BITS +: CTX_BITS] = {CTX_BITS{1'b0}};
+                assign res_proc_flat[gi*PW +: PW]         = ID;
+                assign pp_valid[gi]                       = 1'b0;
+                assign pp_x_flat[gi*CW +: CW]             = {CW{1'b0}};
+                assign pp_y_flat[gi*CW +: CW]             = {CW{1'b0}};
+                assign pp_rgb_flat[gi*96 +: 96]           = 96'd0;
+                assign pp_cyc_flat[gi*32 +: 32]           = 32'd0;
+                assign pp_ctx_flat[gi*CTX_BITS +: CTX_BITS] = {CTX_BITS{1'b0}};
+                assign pp_pop[gi]                         = 1'b0;
 
                 pixel_processor #(
                     .RECIP_METHOD (RECIP_METHOD),
@@ -406,8 +423,6 @@ module top #(
 `endif
             end else begin : g_fast
                 wire          in_ready_i, idle;
-                wire          out_valid_i;
-                wire [CW-1:0] out_x_i, out_y_i;
 
                 fast_pp #(
                     .RECIP_METHOD (RECIP_METHOD),
@@ -427,13 +442,13 @@ module top #(
                     .in_ready    (in_ready_i),
                     .in_x        (stg_x_q),
                     .in_y        (stg_y_q),
-                    .out_valid   (out_valid_i),
-                    .out_ready   (take),
-                    .out_x       (out_x_i),
-                    .out_y       (out_y_i),
-                    .out_ctx     (res_ctx_flat[gi*CTX_BITS +: CTX_BITS]),
-                    .out_rgb     (res_rgb_flat[gi*96 +: 96]),
-                    .out_cycles  (res_cyc_flat[gi*32 +: 32])
+                    .out_valid   (pp_valid[gi]),
+                    .out_ready   (pp_pop[gi]),
+                    .out_x       (pp_x_flat[gi*CW +: CW]),
+                    .out_y       (pp_y_flat[gi*CW +: CW]),
+                    .out_ctx     (pp_ctx_flat[gi*CTX_BITS +: CTX_BITS]),
+                    .out_rgb     (pp_rgb_flat[gi*96 +: 96]),
+                    .out_cycles  (pp_cyc_flat[gi*32 +: 32])
 `ifdef PP_TRACE
                     ,
                     .trace_valid    (trace_valid[gi]),
@@ -454,11 +469,8 @@ module top #(
 `endif
                 );
 
-                assign busy[gi]                = !idle;
-                assign free[gi]                = in_ready_i;
-                assign res_valid[gi]           = out_valid_i;
-                assign res_x_flat[gi*CW +: CW] = out_x_i;
-                assign res_y_flat[gi*CW +: CW] = out_y_i;
+                assign busy[gi] = !idle;
+                assign free[gi] = in_ready_i;
 `ifdef PP_TRACE
                 assign trace_busy[gi]          = !idle;
 `endif
@@ -466,6 +478,112 @@ module top #(
         end
     endgenerate
 
+
+    // ------------------------------------------------------------------------
+    // Fast processors: their result queues' heads into group registers
+    // ------------------------------------------------------------------------
+    // A 34-way round-robin search and multiplexer into the out register is
+    // 17 LUT levels (docs/rtl.md), so results meet in two steps, each a
+    // small search: processor i belongs to group i / ARB_GROUP; a group's
+    // result register, when empty, takes the head of one of its
+    // processors' result queues (round robin from the one after its last
+    // pick); the arbiter above serves the groups' registers. The processor
+    // no longer holds the pixel once its head has left for the group.
+    wire [N-1:0]          pp_valid;   // its result queue is not empty
+    wire [N-1:0]          pp_pop;     // its head leaves for its group
+    wire [N*CW-1:0]       pp_x_flat, pp_y_flat;
+    wire [N*96-1:0]       pp_rgb_flat;
+    wire [N*32-1:0]       pp_cyc_flat;
+    wire [N*CTX_BITS-1:0] pp_ctx_flat;
+    wire unused_pp = ^{pp_valid, pp_pop, pp_x_flat, pp_y_flat, pp_rgb_flat, pp_cyc_flat, pp_ctx_flat};
+
+    genvar gk;
+    generate
+        if (FAST != 0) begin : g_arb
+            for (gk = 0; gk < S; gk = gk + 1) begin : g_grp
+                localparam integer FIRST = gk * G;
+                localparam integer COUNT = (N - FIRST < G) ? N - FIRST : G;
+                localparam [PW-1:0] SLOT = gk;
+                reg                 v_q;
+                reg  [PW-1:0]       proc_q;
+                reg  [CW-1:0]       x_q, y_q;
+                reg  [CTX_BITS-1:0] ctx_q;
+                reg  [95:0]         rgb_q;
+                reg  [31:0]         cyc_q;
+                reg  [GW-1:0]       last_q;
+                // Round robin as one-hot logic (no adder, no comparator): the
+                // members after the last pick first, else the first of all.
+                wire [COUNT-1:0] ready = pp_valid[FIRST +: COUNT];
+                reg  [COUNT-1:0] grant1;
+                reg  [GW-1:0]    member;
+                reg              found, seen;
+                integer          b;
+                always @* begin
+                    grant1 = {COUNT{1'b0}};
+                    seen   = 1'b0;
+                    for (b = 0; b < COUNT; b = b + 1)
+                        if (ready[b] && b > {{(32 - GW){1'b0}}, last_q} && !seen) begin
+                            grant1[b] = 1'b1;
+                            seen      = 1'b1;
+                        end
+                    for (b = 0; b < COUNT; b = b + 1)
+                        if (ready[b] && !seen) begin
+                            grant1[b] = 1'b1;
+                            seen      = 1'b1;
+                        end
+                    found  = |ready;
+                    member = {GW{1'b0}};
+                    for (b = 0; b < COUNT; b = b + 1)
+                        if (grant1[b]) member = member | b[GW-1:0];
+                end
+
+                wire        load = !v_q && found;
+                localparam [31:0] FIRST_W = FIRST;
+                wire [PW-1:0] who = FIRST_W[PW-1:0] + {{(PW - GW){1'b0}}, member};
+                // The picked member's head: an AND-OR over the members.
+                localparam integer HW = 2 * CW + CTX_BITS + 96 + 32;
+                reg [HW-1:0] head;
+                integer      b2;
+                always @* begin
+                    head = {HW{1'b0}};
+                    for (b2 = 0; b2 < COUNT; b2 = b2 + 1)
+                        head = head | ({HW{grant1[b2]}} &
+                               {pp_x_flat[(FIRST + b2)*CW +: CW], pp_y_flat[(FIRST + b2)*CW +: CW],
+                                pp_ctx_flat[(FIRST + b2)*CTX_BITS +: CTX_BITS],
+                                pp_rgb_flat[(FIRST + b2)*96 +: 96], pp_cyc_flat[(FIRST + b2)*32 +: 32]});
+                end
+                always @(posedge clk or negedge rst_n) begin
+                    if (!rst_n) begin
+                        v_q    <= 1'b0;
+                        proc_q <= {PW{1'b0}};
+                        x_q    <= {CW{1'b0}};
+                        y_q    <= {CW{1'b0}};
+                        ctx_q  <= {CTX_BITS{1'b0}};
+                        rgb_q  <= 96'd0;
+                        cyc_q  <= 32'd0;
+                        last_q <= {GW{1'b0}};
+                    end else if (load) begin
+                        v_q    <= 1'b1;
+                        proc_q <= who;
+                        {x_q, y_q, ctx_q, rgb_q, cyc_q} <= head;
+                        last_q <= member;
+                    end else if (out_load && grant == SLOT) begin
+                        v_q <= 1'b0;
+                    end
+                end
+
+                assign pp_pop[FIRST +: COUNT] = load ? grant1 : {COUNT{1'b0}};
+
+                assign res_valid[gk]                          = v_q;
+                assign res_proc_flat[gk*PW +: PW]             = proc_q;
+                assign res_x_flat[gk*CW +: CW]                = x_q;
+                assign res_y_flat[gk*CW +: CW]                = y_q;
+                assign res_ctx_flat[gk*CTX_BITS +: CTX_BITS]  = ctx_q;
+                assign res_rgb_flat[gk*96 +: 96]              = rgb_q;
+                assign res_cyc_flat[gk*32 +: 32]              = cyc_q;
+            end
+        end
+    endgenerate
 
     // The compact processor always has its exponential: EXPOSURE = 0 is a
     // fast-processor build.

@@ -248,13 +248,15 @@ fn fast_processor_is_exact_under_backpressure() {
 // A top of fast processors (rtl/top.v with FAST = 1)
 // ---------------------------------------------------------------------------
 
-/// Processors of the top of fast processors the default build verilates.
+/// Processors of the top of fast processors the default build verilates,
+/// and its ARB_GROUP (each processor a result group of its own).
 const TOP_PROCS: u32 = 2;
+const TOP_GROUP: u32 = 1;
 
 /// Runs `coords` (each once) of `scene` through the top of [`TOP_PROCS`]
 /// fast processors with `fault` planted and out_ready low in
 /// `stall_percent` % of the cycles, and checks it against golden and the
-/// top's rule for `rule` = (processors, contexts), told of the stalled
+/// top's rule for `rule` = (processors, contexts, group), told of the stalled
 /// cycles if `rule_sees_stalls`: every write and colour, each pixel's
 /// processor, context and cycles, and the frame's cycles. The divergences
 /// found, one line each.
@@ -263,7 +265,7 @@ fn cosim_top(
     coords: &[(u32, u32)],
     fault: Option<Fault>,
     stall_percent: u32,
-    rule: (u32, u32),
+    rule: (u32, u32, u32),
     rule_sees_stalls: bool,
 ) -> Vec<String> {
     let g = Processor::new(scene);
@@ -272,6 +274,7 @@ fn cosim_top(
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
     t.set_backpressure(3, stall_percent);
+    assert_eq!(t.arb_group(), TOP_GROUP, "the model's ARB_GROUP");
     let phase = t.turn_phase();
     let mut bad = Vec::new();
     let mut got = Vec::new();
@@ -304,6 +307,7 @@ fn cosim_top(
         procs: rule.0,
         contexts: rule.1,
         phase: phase % rule.1,
+        group: rule.2,
         last_grant: 0,
     };
     let run = barrel::run_top(start, &work, &|c| {
@@ -340,7 +344,7 @@ fn a_top_of_fast_processors_agrees_with_golden_and_its_rule() {
         &coords,
         None,
         0,
-        (TOP_PROCS, FAST_CONTEXTS),
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
         true,
     ));
     // One pixel, and fewer pixels than one processor's contexts.
@@ -349,7 +353,7 @@ fn a_top_of_fast_processors_agrees_with_golden_and_its_rule() {
         &[(3, 4)],
         None,
         0,
-        (TOP_PROCS, FAST_CONTEXTS),
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
         true,
     ));
     assert_exact(&cosim_top(
@@ -357,7 +361,7 @@ fn a_top_of_fast_processors_agrees_with_golden_and_its_rule() {
         &window(20, 14, 5, 1),
         None,
         0,
-        (TOP_PROCS, FAST_CONTEXTS),
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
         true,
     ));
 }
@@ -367,7 +371,7 @@ fn a_top_of_fast_processors_agrees_with_golden_and_its_rule() {
 /// are held, the stage and the queues fill; every pixel is exact and its
 /// cycles, processor and context are still the rule's (with out_ready as
 /// the run drew it), which differ from the rule's with out_ready always
-/// high.
+/// high, and from the rule's with another result group size.
 #[test]
 fn a_top_of_fast_processors_is_exact_under_backpressure() {
     let scene = builtin("overexposed", 40, 30);
@@ -378,12 +382,33 @@ fn a_top_of_fast_processors_is_exact_under_backpressure() {
             &coords,
             None,
             stall,
-            (TOP_PROCS, FAST_CONTEXTS),
+            (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
             true,
         ));
     }
-    // The same run against the rule without the stalls: the check sees them.
-    let bad = cosim_top(&scene, &coords, None, 99, (TOP_PROCS, FAST_CONTEXTS), false);
+    // The same run against the rule without the stalls, and against the
+    // rule with both processors in one result group: the check sees both.
+    let bad = cosim_top(
+        &scene,
+        &coords,
+        None,
+        99,
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
+        false,
+    );
+    assert!(
+        bad.iter().any(|b| b.contains("top rule")),
+        "{}",
+        bad.join("\n")
+    );
+    let bad = cosim_top(
+        &scene,
+        &coords,
+        None,
+        99,
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP + 1),
+        true,
+    );
     assert!(
         bad.iter().any(|b| b.contains("top rule")),
         "{}",
@@ -393,7 +418,8 @@ fn a_top_of_fast_processors_is_exact_under_backpressure() {
 
 /// The checkers fail: a fault in the RTL's writes is a divergence of every
 /// pixel it touches, and the rule for another number of processors or
-/// contexts predicts other placements or cycles.
+/// contexts predicts other placements or cycles (another group size:
+/// `a_top_of_fast_processors_is_exact_under_backpressure`).
 #[test]
 fn a_top_of_fast_processors_checkers_fail_on_injected_faults() {
     let scene = builtin("reference", 40, 30);
@@ -407,14 +433,14 @@ fn a_top_of_fast_processors_checkers_fail_on_injected_faults() {
         &coords,
         Some(fault),
         0,
-        (TOP_PROCS, FAST_CONTEXTS),
+        (TOP_PROCS, FAST_CONTEXTS, TOP_GROUP),
         true,
     );
     let written = bad.iter().filter(|b| b.contains("write #1: rtl")).count();
     assert_eq!(written, coords.len(), "{}", bad.join("\n"));
     for rule in [
-        (TOP_PROCS + 1, FAST_CONTEXTS),
-        (TOP_PROCS, FAST_CONTEXTS - 1),
+        (TOP_PROCS + 1, FAST_CONTEXTS, TOP_GROUP),
+        (TOP_PROCS, FAST_CONTEXTS - 1, TOP_GROUP),
     ] {
         let bad = cosim_top(&scene, &coords, None, 0, rule, true);
         assert!(

@@ -643,10 +643,13 @@ fn fast_processor_agrees_with_golden_under_icarus() {
 /// processor whose queue has room, each processor's barrel and queues, the
 /// round-robin arbiter). The pixels fill processor 0's contexts and queue,
 /// then processor 1's, and the rest go to processor 2, so all three run
-/// and their results meet at the arbiter. The checkers fail: a planted
-/// fault (lane x of every PRI_HALF write flipped) is a divergence of every
-/// pixel, and the rule for a top of two processors, or of 31 contexts,
-/// predicts other processors or cycles.
+/// and their results meet in two result groups (processors 0 and 1, and
+/// 2: ARB_GROUP = 2) and at the arbiter over them. The checkers fail: a
+/// planted fault (lane x of every PRI_HALF write flipped) is a divergence
+/// of every pixel, and the rule for a top of two processors, or of 31
+/// contexts, predicts other processors or cycles. (With the result stream
+/// always ready, the groups' sizes change no pixel here: results seldom
+/// meet in a group; tests/fast_pp.rs holds the stream back to see them.)
 #[test]
 fn fast_top_agrees_with_golden_under_icarus() {
     if !icarus_present("fast_top_agrees_with_golden_under_icarus") {
@@ -655,13 +658,14 @@ fn fast_top_agrees_with_golden_under_icarus() {
     use golden::micro::isa::state;
     const PROCS: u32 = 3;
     const CONTEXTS: u32 = 32;
+    const GROUP: u32 = 2; // two result groups: processors 0 and 1, and 2
     let pixels = window(4, 8, 24, 4);
     let fault_pixels = window(8, 6, 4, 1);
     let start = std::time::Instant::now();
     let scene = builtin("reference", 40, 30);
     let run = |pixels: &[(u32, u32)], fault: Option<(u16, u32)>, tag: &str| {
         let dir = work_dir(&format!("fast_top{tag}"));
-        let vvp = compile_fast_top(&dir, PROCS, scene.render.recip, scene.render.sqrt);
+        let vvp = compile_fast_top(&dir, PROCS, GROUP, scene.render.recip, scene.render.sqrt);
         run_fast_pp(&vvp, &dir, &scene, pixels, fault)
     };
     let (run, faulty) = std::thread::scope(|s| {
@@ -672,7 +676,7 @@ fn fast_top_agrees_with_golden_under_icarus() {
             faulty.join().expect("the faulty vvp run"),
         )
     });
-    let (bad, writes) = fast_top_differences(&scene, &run, &pixels, PROCS, CONTEXTS);
+    let (bad, writes) = fast_top_differences(&scene, &run, &pixels, PROCS, CONTEXTS, GROUP);
     let mut per_proc = [0usize; PROCS as usize];
     for p in &run.pixels {
         per_proc[(p.ctx / 32) as usize] += 1;
@@ -690,17 +694,17 @@ fn fast_top_agrees_with_golden_under_icarus() {
     assert!(per_proc.iter().all(|&n| n > 0), "{per_proc:?}");
 
     // The checkers fail.
-    let (bad, _) = fast_top_differences(&scene, &faulty, &fault_pixels, PROCS, CONTEXTS);
+    let (bad, _) = fast_top_differences(&scene, &faulty, &fault_pixels, PROCS, CONTEXTS, GROUP);
     let hit = bad
         .iter()
         .filter(|b| b.contains("write #1: icarus"))
         .count();
     assert_eq!(hit, fault_pixels.len(), "{}", bad.join("\n"));
-    for (procs, contexts) in [(PROCS - 1, CONTEXTS), (PROCS, CONTEXTS - 1)] {
-        let (bad, _) = fast_top_differences(&scene, &run, &pixels, procs, contexts);
+    for (procs, contexts, group) in [(PROCS - 1, CONTEXTS, GROUP), (PROCS, CONTEXTS - 1, GROUP)] {
+        let (bad, _) = fast_top_differences(&scene, &run, &pixels, procs, contexts, group);
         assert!(
             bad.iter().any(|b| b.contains("top rule")),
-            "a top of {procs} x {contexts}: {}",
+            "a top of {procs} x {contexts} in groups of {group}: {}",
             bad.join("\n")
         );
     }

@@ -250,11 +250,13 @@ fn the_top_lints_clean_for_every_n_with_and_without_its_trace_ports() {
 #[test]
 fn the_top_of_fast_processors_lints_clean() {
     // FAST = 1, every method pair and exposure on and off (fast_builds),
-    // with and without the trace ports; N = 1 and 3.
-    for n in ["-GN=1", "-GN=3"] {
+    // with and without the trace ports; N = 1 and 3 (one result group),
+    // and 3 in groups of 2.
+    for n in ["-GN=1", "-GN=3", "-GN=3 -GARB_GROUP=2"] {
         for params in fast_builds() {
             let mut params: Vec<&str> = params.iter().map(String::as_str).collect();
-            params.extend([n, "-GFAST=1"]);
+            params.extend(n.split(' '));
+            params.push("-GFAST=1");
             lint_tree(common::fast_top_tree(), Some("top"), &params);
             params.push("-DPP_TRACE");
             lint_tree(common::fast_top_tree(), Some("top"), &params);

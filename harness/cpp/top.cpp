@@ -70,7 +70,7 @@ class Top final : public TopSim, private Clocked<M> {
     static constexpr unsigned N = P * K;                 // slots
 
 public:
-    explicit Top(const char* name) : name_(name) { reset(); }
+    explicit Top(const char* name, std::uint32_t group = 1) : name_(name), group_(group) { reset(); }
 
     void reset() override {
         M& m = this->model();
@@ -245,6 +245,8 @@ public:
         for (const std::uint64_t c : stalled_) out.push_back(c - first_in_);
     }
 
+    std::uint32_t arb_group() const override { return group_; }
+
     std::uint32_t turn_phase() override {
         if constexpr (!Fast) {
             return 0;
@@ -388,6 +390,7 @@ private:
     using Clocked<M>::tick;
 
     const char* name_;
+    std::uint32_t group_;  // FastTop: ARB_GROUP
     std::uint16_t fault_state_ = 0;
     std::uint32_t fault_xor_ = 0;
     std::uint32_t fault_procs_ = 0;
@@ -432,9 +435,9 @@ std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t s
 }
 
 std::unique_ptr<TopSim> new_fast_procs_top(std::uint32_t procs, std::uint32_t recip_method, std::uint32_t sqrt_method) {
-#define RTCOSIM_FAST_TOP_CASE(cls, n, recip, sqrt) \
+#define RTCOSIM_FAST_TOP_CASE(cls, n, recip, sqrt, group) \
     if (procs == (n) && recip_method == (recip) && sqrt_method == (sqrt)) \
-        return std::make_unique<Top<cls, n, Kind::FastTop>>(#cls);
+        return std::make_unique<Top<cls, n, Kind::FastTop>>(#cls, group);
     RTCOSIM_FAST_TOP_MODELS(RTCOSIM_FAST_TOP_CASE)
 #undef RTCOSIM_FAST_TOP_CASE
     throw std::invalid_argument("no top of " + std::to_string(procs) + " fast processors was verilated with recip method " +

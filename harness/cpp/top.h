@@ -55,6 +55,9 @@ public:
     // processor's ring turns together); 0 for compact ones. Evaluates the
     // model with clk low and no coordinate offered: no edge.
     virtual std::uint32_t turn_phase() = 0;
+    // A top of fast processors: processors per result group (ARB_GROUP);
+    // 1 for the others.
+    virtual std::uint32_t arb_group() const = 0;
 };
 
 // Builds and resets the top verilated with `procs` processors and these

@@ -445,11 +445,17 @@ pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method) -> PathBuf {
     vvp
 }
 
-/// fast_top_tb (a top of `procs` fast processors) compiled for these
-/// methods, in `dir`.
-pub fn compile_fast_top(dir: &Path, procs: u32, recip: Method, sqrt: Method) -> PathBuf {
+/// fast_top_tb (a top of `procs` fast processors, `group` a result group)
+/// compiled for these methods, in `dir`.
+pub fn compile_fast_top(
+    dir: &Path,
+    procs: u32,
+    group: u32,
+    recip: Method,
+    sqrt: Method,
+) -> PathBuf {
     let (includes, sources) = super::fast_top_tree();
-    let vvp = dir.join(format!("fast_top_tb_{procs}_{recip}_{sqrt}.vvp"));
+    let vvp = dir.join(format!("fast_top_tb_{procs}_{group}_{recip}_{sqrt}.vvp"));
     iverilog(
         &vvp,
         "fast_top_tb",
@@ -458,6 +464,7 @@ pub fn compile_fast_top(dir: &Path, procs: u32, recip: Method, sqrt: Method) -> 
         &["PP_TRACE"],
         &[
             ("N", procs),
+            ("ARB_GROUP", group),
             ("RECIP_METHOD", recip.code()),
             ("SQRT_METHOD", sqrt.code()),
         ],
@@ -737,7 +744,8 @@ pub fn fast_differences(
 }
 
 /// [`fast_differences`] for a top of `procs` fast processors of `contexts`
-/// contexts each (fast_top_tb, a context named proc * 32 + ctx): each
+/// contexts each, `group` a result group (fast_top_tb, a context named
+/// proc * 32 + ctx): each
 /// pixel's writes and colour, and its processor, context and cycles and
 /// the frame's cycles against the top's rule (`golden::micro::barrel::
 /// run_top`, from the phase the run printed and the arbiter as reset left
@@ -748,6 +756,7 @@ pub fn fast_top_differences(
     pixels: &[(u32, u32)],
     procs: u32,
     contexts: u32,
+    group: u32,
 ) -> (Vec<String>, usize) {
     use golden::micro::barrel::{self, TopStart};
     let (mut bad, compared, work) = fast_pixel_differences(scene, run, pixels);
@@ -756,6 +765,7 @@ pub fn fast_top_differences(
         procs,
         contexts,
         phase: run.phase.expect("a PHASE line") % contexts,
+        group,
         last_grant: 0,
     };
     let top = barrel::run_top(start, &work, &|_| true);

@@ -24,6 +24,7 @@
 module fast_top_tb;
 
     parameter integer N            = 2;
+    parameter integer ARB_GROUP    = 6;
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT;
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT;
     parameter integer EXPOSURE     = 1;
@@ -66,6 +67,7 @@ module fast_top_tb;
         .RECIP_METHOD (RECIP_METHOD),
         .SQRT_METHOD  (SQRT_METHOD),
         .FAST         (1),
+        .ARB_GROUP    (ARB_GROUP),
         .EXPOSURE     (EXPOSURE),
         .CTX_BITS     (CTX_BITS)
     ) dut (

@@ -238,8 +238,11 @@ pub struct TopStart {
     /// The context whose turn cycle 0 is (every processor's ring turns
     /// together: they leave reset together).
     pub phase: u32,
-    /// The arbiter's last grant (`rr_q`: the processor of the last result
-    /// that left; 0 after reset).
+    /// Processors per result group (`ARB_GROUP`): processor i's results
+    /// meet in group i / group's register.
+    pub group: u32,
+    /// The arbiter's last grant (`rr_q`: the group of the last result that
+    /// left; 0 after reset). Each group's own last pick starts at 0.
     pub last_grant: u32,
 }
 
@@ -271,9 +274,9 @@ const DONE_TO_SLOT: u64 = 3;
 /// The pixels of one frame through a top of fast processors, with the
 /// top's coordinate stream offered every cycle from cycle 0 and its result
 /// stream taken in the cycles `t` where `out_ready(t)`. The top's rule
-/// (`rtl/top.v`'s stage, dispatcher and arbiter; each processor's queues,
-/// `rtl/fast/fast_pp.v`), a cycle t at a time, every decision on the state
-/// at the start of the cycle:
+/// (`rtl/top.v`'s stage, dispatcher, result groups and arbiter; each
+/// processor's queues, `rtl/fast/fast_pp.v`), a cycle t at a time, every
+/// decision on the state at the start of the cycle:
 ///
 /// - the stage takes the next coordinate if it is empty;
 /// - a staged coordinate goes to the lowest-numbered processor with fewer
@@ -283,37 +286,48 @@ const DONE_TO_SLOT: u64 = 3;
 ///   2K pixels (taken, and not yet out of it);
 /// - a done turn at t puts the result in the processor's result queue, its
 ///   head from t + 3;
-/// - the arbiter, round robin from the processor after the last grant,
-///   moves one queue head into the out register when that is empty or
-///   taken this cycle (the processor no longer holds the pixel);
+/// - a group's register, if empty, takes one of its processors' heads,
+///   round robin from the member after its last pick (the processor no
+///   longer holds the pixel);
+/// - the arbiter, round robin from the group after the last grant, moves
+///   one group's register into the out register when that is empty or
+///   taken this cycle;
 /// - the out register's result leaves in a cycle with out_ready.
 ///
-/// Panics if `procs` or `contexts` is 0, `phase` or `last_grant` is out of
-/// range, or no result leaves for 2^32 cycles while a pixel waits (an
-/// `out_ready` that never opens).
+/// Panics if `procs`, `contexts` or `group` is 0, `phase` or `last_grant`
+/// is out of range, or no result leaves for 2^32 cycles while a pixel
+/// waits (an `out_ready` that never opens).
 pub fn run_top(start: TopStart, pixels: &[PixelWork], out_ready: &dyn Fn(u64) -> bool) -> TopRun {
     assert!(start.procs > 0, "a top of no processors");
+    assert!(start.group > 0, "result groups of no processors");
     assert!(
         start.phase < start.contexts,
         "phase {} of {} contexts",
         start.phase,
         start.contexts
     );
-    assert!(
-        start.last_grant < start.procs,
-        "last grant {} of {} processors",
-        start.last_grant,
-        start.procs
-    );
     let n = start.procs as usize;
+    let g = start.group as usize;
+    let groups = n.div_ceil(g);
+    assert!(
+        (start.last_grant as usize) < groups,
+        "last grant {} of {groups} groups",
+        start.last_grant
+    );
     let k = start.contexts as u64;
     let hold_max = 2 * k;
 
     struct Proc {
         barrel: Barrel,
         queue: std::collections::VecDeque<usize>,
-        results: std::collections::VecDeque<(usize, u64)>, // (pixel, in its slot from)
+        results: std::collections::VecDeque<(usize, u64)>, // (pixel, its queue's head from)
         held: u64,
+    }
+    struct Group {
+        first: usize,
+        count: usize,
+        reg: Option<usize>,
+        last: usize,
     }
     let mut procs: Vec<Proc> = (0..n)
         .map(|_| Proc {
@@ -321,6 +335,14 @@ pub fn run_top(start: TopStart, pixels: &[PixelWork], out_ready: &dyn Fn(u64) ->
             queue: Default::default(),
             results: Default::default(),
             held: 0,
+        })
+        .collect();
+    let mut group: Vec<Group> = (0..groups)
+        .map(|i| Group {
+            first: i * g,
+            count: g.min(n - i * g),
+            reg: None,
+            last: 0,
         })
         .collect();
     let mut runs: Vec<Option<(u32, BarrelPixel)>> = vec![None; pixels.len()];
@@ -337,17 +359,32 @@ pub fn run_top(start: TopStart, pixels: &[PixelWork], out_ready: &dyn Fn(u64) ->
         quiet += 1;
         assert!(quiet < 1 << 32, "no result left the top for 2^32 cycles");
         let ready = out_ready(t);
-        // The out register, and the arbiter (on the state at t's start).
+        // The out register, the arbiter and the groups (on the state at
+        // t's start).
         if let (Some(p), true) = (out_reg, ready) {
             outs[p] = Some(t);
             left += 1;
             last_out = t;
             quiet = 0;
         }
-        let grant = (1..=n)
-            .map(|j| (last_grant + j) % n)
-            .find(|&i| procs[i].results.front().is_some_and(|&(_, from)| from <= t));
+        let grant = (1..=groups)
+            .map(|j| (last_grant + j) % groups)
+            .find(|&i| group[i].reg.is_some());
         let moves = out_reg.is_none() || ready;
+        let picks: Vec<Option<usize>> = group
+            .iter()
+            .map(|gr| {
+                if gr.reg.is_some() {
+                    return None;
+                }
+                (1..=gr.count).map(|j| (gr.last + j) % gr.count).find(|&m| {
+                    procs[gr.first + m]
+                        .results
+                        .front()
+                        .is_some_and(|&(_, from)| from <= t)
+                })
+            })
+            .collect();
         // The dispatcher, and the stage.
         let pick = stage.and((0..n).find(|&i| procs[i].queue.len() < 2));
         // Each processor's turn.
@@ -376,12 +413,18 @@ pub fn run_top(start: TopStart, pixels: &[PixelWork], out_ready: &dyn Fn(u64) ->
         }
         // The edge.
         if moves {
-            out_reg = None;
-            if let Some(i) = grant {
-                let (p, _) = procs[i].results.pop_front().expect("the granted result");
-                procs[i].held -= 1;
-                out_reg = Some(p);
+            out_reg = grant.and_then(|i| {
                 last_grant = i;
+                group[i].reg.take()
+            });
+        }
+        for (gr, m) in group.iter_mut().zip(picks) {
+            if let Some(m) = m {
+                let proc = &mut procs[gr.first + m];
+                let (p, _) = proc.results.pop_front().expect("the picked result");
+                proc.held -= 1;
+                gr.reg = Some(p);
+                gr.last = m;
             }
         }
         if let (Some(p), Some(i)) = (stage, pick) {
@@ -513,6 +556,7 @@ mod tests {
             procs,
             contexts,
             phase: 0,
+            group: 6,
             last_grant: 0,
         }
     }
@@ -533,20 +577,23 @@ mod tests {
     /// when it is empty (0, 2, 4), to processor 0 the cycle after (its
     /// queue has room), taken from its queue at the next turn; with one
     /// context the processor holds at most 2 pixels, so pixel 2 waits in
-    /// its queue (cycles 6, 7) until pixel 0's result leaves for the out
-    /// register (edge of 7), and processor 1 never gets a pixel.
+    /// its queue (cycles 6, 7) until pixel 0's result leaves for the group's
+    /// register (edge of 7), and processor 1 never gets a pixel. A result:
+    /// in the processor's queue 3 cycles after its done turn, the group's
+    /// register the next edge, the out register the one after, out the
+    /// cycle after that.
     #[test]
     fn a_top_dispatches_to_the_first_queue_with_room_and_holds_2k() {
         let r = run_top(top(2, 1), &[work(1), work(1), work(1)], &|_| true);
         assert_eq!(
             r.pixels,
             [
-                top_pixel(0, 2, 4, 8),
-                top_pixel(0, 4, 6, 10),
-                top_pixel(0, 8, 10, 14)
+                top_pixel(0, 2, 4, 9),
+                top_pixel(0, 4, 6, 11),
+                top_pixel(0, 8, 10, 15)
             ]
         );
-        assert_eq!(r.frame_cycles, 15);
+        assert_eq!(r.frame_cycles, 16);
     }
 
     /// Processor 0's queue full (pixels 1, 2 behind the running pixel 0),
@@ -567,7 +614,7 @@ mod tests {
     #[test]
     fn a_top_result_waits_for_out_ready() {
         let open = run_top(top(1, 1), &[work(1)], &|_| true);
-        assert_eq!(open.pixels, [top_pixel(0, 2, 4, 8)]);
+        assert_eq!(open.pixels, [top_pixel(0, 2, 4, 9)]);
         let held = run_top(top(1, 1), &[work(1)], &|t| t >= 12);
         assert_eq!(held.pixels, [top_pixel(0, 2, 4, 12)]);
         assert_eq!(held.frame_cycles, 13);
