@@ -213,43 +213,51 @@ module top #(
     localparam integer S  = (N + G - 1) / G;
     localparam integer GW = (G > 1) ? $clog2(G) : 1;
     wire [S-1:0]    res_valid;   // slot full
-    reg             pick_found;
-    reg  [PW-1:0]   pick;
+    reg  [N-1:0]    pick;        // one-hot: the lowest-numbered free processor
+    reg             pick_seen;
     integer         k;
 
     always @* begin
-        pick_found = 1'b0;
-        pick       = {PW{1'b0}};
-        for (k = N - 1; k >= 0; k = k - 1) begin
-            if (free[k]) begin
-                pick_found = 1'b1;
-                pick       = k[PW-1:0];
+        pick      = {N{1'b0}};
+        pick_seen = 1'b0;
+        for (k = 0; k < N; k = k + 1)
+            if (free[k] && !pick_seen) begin
+                pick[k]   = 1'b1;
+                pick_seen = 1'b1;
             end
-        end
     end
 
-    assign dispatch    = stg_valid_q && pick_found && !scene_we;
+    assign dispatch    = stg_valid_q && (|free) && !scene_we;
     assign scene_ready = ~|busy;
 
     // ------------------------------------------------------------------------
     // Round-robin arbiter over the result slots, into the out register
     // ------------------------------------------------------------------------
-    reg  [PW-1:0]   rr_q;
-    reg             grant_found;
-    reg  [PW-1:0]   grant;
-    integer         j, idx;
+    // One-hot logic (no index arithmetic): the slots after the last grant
+    // first, else the first of all.
+    reg  [PW-1:0]   rr_q;        // the last grant
+    reg  [S-1:0]    grant;       // one-hot
+    reg  [PW-1:0]   grant_at;    // its index
+    reg             grant_seen;
+    wire            grant_found = |res_valid;
+    integer         j;
 
     always @* begin
-        grant_found = 1'b0;
-        grant       = {PW{1'b0}};
-        for (j = 1; j <= S; j = j + 1) begin
-            idx = {{(32 - PW){1'b0}}, rr_q} + j;
-            if (idx >= S) idx = idx - S;
-            if (!grant_found && res_valid[idx]) begin
-                grant_found = 1'b1;
-                grant       = idx[PW-1:0];
+        grant      = {S{1'b0}};
+        grant_seen = 1'b0;
+        for (j = 0; j < S; j = j + 1)
+            if (res_valid[j] && j > {{(32 - PW){1'b0}}, rr_q} && !grant_seen) begin
+                grant[j]   = 1'b1;
+                grant_seen = 1'b1;
             end
-        end
+        for (j = 0; j < S; j = j + 1)
+            if (res_valid[j] && !grant_seen) begin
+                grant[j]   = 1'b1;
+                grant_seen = 1'b1;
+            end
+        grant_at = {PW{1'b0}};
+        for (j = 0; j < S; j = j + 1)
+            if (grant[j]) grant_at = grant_at | j[PW-1:0];
     end
 
     reg             out_valid_q;
@@ -266,6 +274,19 @@ module top #(
     wire [S*CTX_BITS-1:0] res_ctx_flat;
     wire [S*PW-1:0] res_proc_flat;
 
+    // The granted slot's result: an AND-OR over the slots.
+    localparam integer OW = 2 * CW + PW + CTX_BITS + 96 + 32;
+    reg  [OW-1:0]   granted;
+    integer         j2;
+    always @* begin
+        granted = {OW{1'b0}};
+        for (j2 = 0; j2 < S; j2 = j2 + 1)
+            granted = granted | ({OW{grant[j2]}} &
+                      {res_x_flat[j2*CW +: CW], res_y_flat[j2*CW +: CW], res_proc_flat[j2*PW +: PW],
+                       res_ctx_flat[j2*CTX_BITS +: CTX_BITS], res_rgb_flat[j2*96 +: 96],
+                       res_cyc_flat[j2*32 +: 32]});
+    end
+
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
             out_valid_q  <= 1'b0;
@@ -279,13 +300,8 @@ module top #(
         end else if (!out_valid_q || out_ready) begin
             out_valid_q <= grant_found;
             if (grant_found) begin
-                out_x_q      <= res_x_flat[grant*CW +: CW];
-                out_y_q      <= res_y_flat[grant*CW +: CW];
-                out_proc_q   <= res_proc_flat[grant*PW +: PW];
-                out_ctx_q    <= res_ctx_flat[grant*CTX_BITS +: CTX_BITS];
-                out_rgb_q    <= res_rgb_flat[grant*96 +: 96];
-                out_cycles_q <= res_cyc_flat[grant*32 +: 32];
-                rr_q         <= grant;
+                {out_x_q, out_y_q, out_proc_q, out_ctx_q, out_rgb_q, out_cycles_q} <= granted;
+                rr_q <= grant_at;
             end
         end
     end
@@ -307,10 +323,10 @@ module top #(
     generate
         for (gi = 0; gi < N; gi = gi + 1) begin : g_pp
             localparam [PW-1:0] ID = gi;
-            wire          mine = dispatch && (pick == ID);
+            wire          mine = dispatch && pick[gi];
 
             if (FAST == 0) begin : g_compact
-                wire          take = out_load && (grant == ID);   // the slot empties
+                wire          take = out_load && grant[gi];   // the slot empties
                 reg           busy_q, start_q, res_valid_q;
                 reg  [CW-1:0] tag_x_q, tag_y_q;
                 reg  [31:0]   cnt_q;
@@ -503,7 +519,6 @@ module top #(
             for (gk = 0; gk < S; gk = gk + 1) begin : g_grp
                 localparam integer FIRST = gk * G;
                 localparam integer COUNT = (N - FIRST < G) ? N - FIRST : G;
-                localparam [PW-1:0] SLOT = gk;
                 reg                 v_q;
                 reg  [PW-1:0]       proc_q;
                 reg  [CW-1:0]       x_q, y_q;
@@ -567,7 +582,7 @@ module top #(
                         proc_q <= who;
                         {x_q, y_q, ctx_q, rgb_q, cyc_q} <= head;
                         last_q <= member;
-                    end else if (out_load && grant == SLOT) begin
+                    end else if (out_load && grant[gk]) begin
                         v_q <= 1'b0;
                     end
                 end
