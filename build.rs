@@ -322,7 +322,21 @@ fn run() -> Result<(), String> {
 
     let fp_dir = manifest.join("rtl/fp");
     let pp_dir = manifest.join("rtl/pp");
-    write_state_lines(&pp_dir.join("pp_ctrl.v"), &out.join("rtl_state_lines.rs"))?;
+    write_state_lines(
+        &[
+            (
+                &pp_dir.join("pp_ctrl.v"),
+                "case (st_q)",
+                "PP_CTRL_STATE_LINES",
+            ),
+            (
+                &manifest.join("rtl/fast/fast_ctrl.v"),
+                "case (st)",
+                "FAST_CTRL_STATE_LINES",
+            ),
+        ],
+        &out.join("rtl_state_lines.rs"),
+    )?;
     let methods = read_methods(&fp_dir.join("fp_defs.vh"))?;
     let fp_sources = verilog_sources(&[&fp_dir])?;
     // The fast processor's RTL (rtl/fast/): its pipelined units use fp_lzc,
@@ -1072,23 +1086,37 @@ fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
 }
 
 /// Every `*.v` of `dirs`, sorted within each directory.
-/// Writes `$OUT_DIR/rtl_state_lines.rs`: the line of every case item of the
-/// controller's `case (st_q)` in `pp_ctrl`, by state name (the item's
-/// `` `ISA_ST_<NAME> `` labels), so that reports can name the Verilog line
-/// that decodes a state. A `case (st_q)` that cannot be found is an error.
-fn write_state_lines(pp_ctrl: &Path, out: &Path) -> Result<(), String> {
-    let text = fs::read_to_string(pp_ctrl)
-        .map_err(|e| format!("{}: cannot read: {e}", pp_ctrl.display()))?;
+/// Writes `$OUT_DIR/rtl_state_lines.rs`: for each controller, the line of
+/// every item of its `case` on the state (pp_ctrl's `case (st_q)`, the fast
+/// controller's `case (st)` in its `plan` function), by state name (the
+/// item's `` `ISA_ST_<NAME> `` labels), so that reports can name the
+/// Verilog line that decodes a state. A `case` that cannot be found is an
+/// error.
+fn write_state_lines(controllers: &[(&Path, &str, &str)], out: &Path) -> Result<(), String> {
+    let mut code = String::new();
+    for &(file, head, name) in controllers {
+        let items = state_lines(file, head)?;
+        code += &format!(
+            "/// (state name, line) of every item of `{head}` in {}.\n\
+             pub const {name}: &[(&str, u32)] = &[\n{items}];\n",
+            file.strip_prefix(env!("CARGO_MANIFEST_DIR"))
+                .unwrap_or(file)
+                .display()
+        );
+    }
+    fs::write(out, code).map_err(|e| format!("{}: {e}", out.display()))
+}
+
+/// The `(name, line),` items of the first `case` of `file` whose line starts
+/// with `head`.
+fn state_lines(file: &Path, head: &str) -> Result<String, String> {
+    let text =
+        fs::read_to_string(file).map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
     let lines: Vec<&str> = text.lines().collect();
     let start = lines
         .iter()
-        .position(|l| l.trim_start().starts_with("case (st_q)"))
-        .ok_or_else(|| {
-            format!(
-                "{}: no `case (st_q)` to map states to lines",
-                pp_ctrl.display()
-            )
-        })?;
+        .position(|l| l.trim_start().starts_with(head))
+        .ok_or_else(|| format!("{}: no `{head}` to map states to lines", file.display()))?;
     let indent = |l: &str| l.len() - l.trim_start().len();
     let case_indent = indent(lines[start]);
     let mut items = String::new();
@@ -1110,11 +1138,7 @@ fn write_state_lines(pp_ctrl: &Path, out: &Path) -> Result<(), String> {
             }
         }
     }
-    let code = format!(
-        "/// (state name, line) of every item of `case (st_q)` in rtl/pp/pp_ctrl.v.\n\
-         pub const PP_CTRL_STATE_LINES: &[(&str, u32)] = &[\n{items}];\n"
-    );
-    fs::write(out, code).map_err(|e| format!("{}: {e}", out.display()))
+    Ok(items)
 }
 
 fn verilog_sources(dirs: &[&Path]) -> Result<Vec<PathBuf>, String> {

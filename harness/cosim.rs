@@ -247,7 +247,7 @@ impl fmt::Display for CosimReport {
             writeln!(
                 f,
                 "  {}, {} tile{}: {} frame cycles (first coordinate in to last result \
-                 out; {:.2} a pixel), {}; {:.1}% of context cycles without a pixel, {} batches",
+                 out; {:.2} a pixel), {}; {:.1}% of context cycles without a pixel, {} batch{}",
                 if t.through_top {
                     format!(
                         "top: {} processor{} of {FAST_CONTEXTS} contexts",
@@ -267,21 +267,23 @@ impl fmt::Display for CosimReport {
                     None => "no prediction (the result stream was held back)".to_string(),
                 },
                 100.0 * t.idle_share(),
-                t.stats.batches
+                t.stats.batches,
+                if t.stats.batches == 1 { "" } else { "es" }
             )?;
         } else if let Some(t) = &self.top {
             writeln!(
                 f,
                 "  top: {} processor{}, {} tile{}: {} frame cycles (first coordinate in to last \
                  result out), {:.1}% dispatcher idle (processor cycles without a pixel), {} \
-                 batches",
+                 batch{}",
                 t.procs,
                 if t.procs == 1 { "" } else { "s" },
                 t.tiles,
                 if t.tiles == 1 { "" } else { "s" },
                 t.stats.frame_cycles,
                 100.0 * t.idle_share(),
-                t.stats.batches
+                t.stats.batches,
+                if t.stats.batches == 1 { "" } else { "es" }
             )?;
         }
         write!(f, "{}", self.compare)?;
@@ -478,7 +480,7 @@ pub const FAST_FRAME_OVERHEAD: u64 = 4;
 pub const TILE_ROWS: u32 = 4;
 
 /// The tiles of `window`: bands of [`TILE_ROWS`] rows, top to bottom.
-fn tiles(window: Window) -> Vec<Window> {
+pub fn tiles(window: Window) -> Vec<Window> {
     window
         .rows()
         .step_by(TILE_ROWS as usize)
@@ -613,7 +615,7 @@ fn run_tile(
     } else {
         (Vec::new(), None)
     };
-    let mut compare = CompareReport::new(Labels::rtl_golden());
+    let mut compare = CompareReport::new(Labels::rtl_golden().on(top.processor));
     let mut colours = Vec::new();
     let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
         let v = compare_pixel(
@@ -658,7 +660,7 @@ fn top_report(
 ) -> CosimReport {
     let fast = top.processor == ProcessorKind::Fast;
     let tiles = done.len() as u64;
-    let mut compare = CompareReport::new(Labels::rtl_golden());
+    let mut compare = CompareReport::new(Labels::rtl_golden().on(top.processor));
     let mut colours = Vec::new();
     let mut stats = FrameStats::default();
     let mut predicted = Some(0);

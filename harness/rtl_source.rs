@@ -1,17 +1,22 @@
-//! Where the RTL decodes each controller state: the `file:line` in
-//! `rtl/pp/pp_ctrl.v` of the state's item in the controller's one
-//! `case (st_q)`, mapped at build time (`build.rs` reads the case labels),
-//! so divergence reports name the Verilog line beside the golden model's
-//! Rust line. `tests/state_table.rs` reads pp_ctrl.v on its own and checks
-//! every mapped line names its state.
+//! Where the RTL decodes each controller state: the `file:line` of the
+//! state's item in each controller's `case` on the state (the compact
+//! processor's `case (st_q)` in `rtl/pp/pp_ctrl.v`, the fast processor's
+//! `case (st)` in the `plan` function of `rtl/fast/fast_ctrl.v`), mapped at
+//! build time (`build.rs` reads the case labels), so divergence reports name
+//! the Verilog line beside the golden model's Rust line.
+//! `tests/state_table.rs` reads both files on its own and checks every
+//! mapped line names its state.
 
+use crate::processor::ProcessorKind;
 use golden::micro::isa::state_name;
 use std::fmt;
 
 include!(concat!(env!("OUT_DIR"), "/rtl_state_lines.rs"));
 
-/// The controller, as the repository names it.
+/// The compact processor's controller, as the repository names it.
 pub const PP_CTRL: &str = "rtl/pp/pp_ctrl.v";
+/// The fast processor's controller.
+pub const FAST_CTRL: &str = "rtl/fast/fast_ctrl.v";
 
 /// A line of a Verilog file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -26,15 +31,21 @@ impl fmt::Display for VerilogLine {
     }
 }
 
-/// The line of pp_ctrl.v that decodes `state`, when the ISA names the state
-/// and the controller has an item for it.
-pub fn state_line(state: u16) -> Option<VerilogLine> {
+/// The controller of `processor`, and its (state name, line) table.
+pub fn controller(processor: ProcessorKind) -> (&'static str, &'static [(&'static str, u32)]) {
+    match processor {
+        ProcessorKind::Compact => (PP_CTRL, PP_CTRL_STATE_LINES),
+        ProcessorKind::Fast => (FAST_CTRL, FAST_CTRL_STATE_LINES),
+    }
+}
+
+/// The line of `processor`'s controller that decodes `state`, when the ISA
+/// names the state and the controller has an item for it.
+pub fn state_line(processor: ProcessorKind, state: u16) -> Option<VerilogLine> {
     let name = state_name(state)?;
-    PP_CTRL_STATE_LINES
+    let (file, lines) = controller(processor);
+    lines
         .iter()
         .find(|(n, _)| *n == name)
-        .map(|&(_, line)| VerilogLine {
-            file: PP_CTRL,
-            line,
-        })
+        .map(|&(_, line)| VerilogLine { file, line })
 }

@@ -8,7 +8,8 @@
 //! to both is compared with a [`PixelCompare`], event by event at equal
 //! sequence numbers. Each divergent pixel is classified (numeric drift or
 //! control flow, see [`DivergenceClass`]), its diverging events are named
-//! in the Verilog (the state's line in `pp_ctrl.v`) and in the Rust (the
+//! in the Verilog (the state's line in the controller of the processor the
+//! headers name: `pp_ctrl.v` or `fast_ctrl.v`) and in the Rust (the
 //! line of the golden model that issues the event, found by re-running the
 //! pixel on the scene the trace header carries), and the first one comes
 //! with the events before it on both sides.
@@ -21,6 +22,7 @@ use crate::compare::{
     compare_pixel, CompareReport, Divergence, DivergenceClass, Labels, PixelVerdict, SourceLine,
     Tolerance,
 };
+use crate::trace_files;
 use golden::micro::{Fault, Processor};
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
@@ -311,18 +313,26 @@ impl Rerun {
 }
 
 /// The [`Labels`] of a diff: the file names, or the sides when the names
-/// are equal.
+/// are equal; states are named at the lines of the processor that the
+/// headers name (A's first; the compact one when neither does, or a file
+/// cannot be read: the diff then reports why).
 pub fn labels(a: &Path, b: &Path) -> Labels {
     let name = |p: &Path| {
         p.file_name()
             .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
     };
     let (na, nb) = (name(a), name(b));
-    if na == nb {
+    let labels = if na == nb {
         Labels::new("A", "B")
     } else {
         Labels::new(na, nb)
-    }
+    };
+    let processor = |p: &Path| {
+        PixelReader::open(p)
+            .ok()
+            .and_then(|r| trace_files::processor_of(r.header()))
+    };
+    labels.on(processor(a).or_else(|| processor(b)).unwrap_or_default())
 }
 
 /// Diffs trace `a` against trace `b`. `each` sees every divergent pixel's

@@ -1,9 +1,16 @@
 //! Trace files of a run: the header that says what was traced and by whom,
 //! and the writers that stream a window's records into a file: the golden
 //! micro-op model's ([`write_golden`]) and the RTL's ([`write_rtl`]), in the
-//! same format, pixel by pixel in row order (see [`golden::trace`]).
+//! same format, pixel by pixel in row order (see [`golden::trace`]), for
+//! either processor (the header's `processor=` says whose cycles the
+//! pixels carry).
 
+use crate::cosim;
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
+use crate::processor::ProcessorKind;
+use crate::top::{Source, Top, FAST_CONTEXTS};
+use clap::ValueEnum;
+use golden::micro::barrel::{self, PixelWork};
 use golden::micro::Processor;
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
@@ -153,80 +160,169 @@ fn with_fault(writer: String, fault: Option<Fault>) -> String {
     }
 }
 
+/// The processor whose cycle rule a trace's pixel ends carry, from its
+/// header's `processor=` key; `None` when the header names none (traces
+/// written before the key existed are the compact processor's) or names an
+/// unknown one.
+pub fn processor_of(header: &TraceHeader) -> Option<ProcessorKind> {
+    header
+        .config_value("processor")
+        .and_then(|name| ProcessorKind::from_str(name, true).ok())
+}
+
+/// One pixel of a trace, buffered: its events and its outcome.
+type TracedPixel = (Vec<TraceEvent>, PixelOutcome);
+
+/// Writes `window`'s pixels to `file` in tiles, each tile's pixels (row
+/// order) from `tile_pixels`; the window goes in the tiles the fast
+/// processor is run in ([`cosim::tiles`]) on either processor.
+fn write_tiles(
+    file: &mut TraceFile,
+    window: Window,
+    progress: &dyn Fn(u64),
+    tile_pixels: &mut dyn FnMut(Window) -> Result<Vec<TracedPixel>, TraceFileError>,
+) -> Result<u64, TraceFileError> {
+    let mut events = 0;
+    for tile in cosim::tiles(window) {
+        let pixels = tile_pixels(tile)?;
+        for ((x, y), (buffer, outcome)) in tile.iter().zip(pixels) {
+            for e in &buffer {
+                file.event(e)?;
+            }
+            file.pixel_end(x, y, outcome)?;
+            events += buffer.len() as u64;
+            progress(1);
+        }
+    }
+    Ok(events)
+}
+
 /// Writes the micro-op model's trace of the pixels in `window`, row by row,
 /// left to right, to `path`, with `fault` injected (a self-test of a
-/// checker); `progress` is called once per pixel. Returns the number of
-/// events.
+/// checker); `progress` is called once per pixel. Each pixel's cycles are
+/// those `processor` takes: the compact processor's rule
+/// (golden::micro's), or the fast processor's barrel rule for the window
+/// streamed in tiles of [`cosim::TILE_ROWS`] rows into a fresh processor,
+/// as `cosim --processor fast` (and its `--trace`) runs them. Returns the
+/// number of events.
 pub fn write_golden(
     scene: &Scene,
     scene_name: &str,
     window: Window,
+    processor: ProcessorKind,
     fault: Option<Fault>,
     path: &Path,
     progress: &dyn Fn(u64),
 ) -> Result<u64, TraceFileError> {
-    let writer = with_fault("model=micro".to_string(), fault);
+    let writer = with_fault(format!("model=micro processor={processor}"), fault);
     let header = header(scene, scene_name, TraceSide::Golden, &writer, window);
     let mut file = TraceFile::create(path, &header)?;
     let proc = Processor::new(scene).with_fault(fault);
-    let mut events = 0;
-    for (x, y) in window.iter() {
-        let mut failed = None;
-        let r = proc.render_pixel(x, y, |e, _| {
-            if failed.is_none() {
-                failed = file.event(e).err();
+    let events = write_tiles(&mut file, window, progress, &mut |tile| {
+        let mut work = Vec::new();
+        let mut pixels: Vec<TracedPixel> = tile
+            .iter()
+            .map(|(x, y)| {
+                let mut buffer = Vec::new();
+                let r = proc.render_pixel(x, y, |e, _| buffer.push(*e));
+                work.push(PixelWork::of(&r));
+                (buffer, PixelOutcome::from(&r))
+            })
+            .collect();
+        if processor == ProcessorKind::Fast {
+            let run = barrel::run(FAST_CONTEXTS, &work);
+            for ((_, outcome), p) in pixels.iter_mut().zip(&run.pixels) {
+                outcome.cycles = p.cycles();
             }
-        });
-        if let Some(e) = failed {
-            return Err(e);
         }
-        file.pixel_end(x, y, PixelOutcome::from(&r))?;
-        events += r.ops.register_writes;
-        progress(1);
-    }
+        Ok(pixels)
+    })?;
     file.finish()?;
     Ok(events)
 }
 
 /// Writes the verilated RTL's trace (its trace port) of the pixels in
-/// `window`, row by row, left to right, to `path`, on a model of the
-/// scene's methods with `fault` injected (a self-test) and the watchdog at
-/// `timeout_cycles`; `progress` is called once per pixel. Returns the
-/// number of events. One pixel's events are buffered at a time.
+/// `window`, row by row, left to right, to `path`, from `processor` (the
+/// model of the scene's methods) with `fault` injected (a self-test) and
+/// the watchdog at `timeout_cycles`; `progress` is called once per pixel.
+/// The compact processor runs one pixel at a time; the fast one is fed the
+/// window in tiles of [`cosim::TILE_ROWS`] rows, reset before each, and its
+/// results, which leave in the order they finish, are put back in row
+/// order. Returns the number of events. One tile's events are buffered at
+/// a time.
+#[allow(clippy::too_many_arguments)]
 pub fn write_rtl(
     scene: &Scene,
     scene_name: &str,
     window: Window,
+    processor: ProcessorKind,
     fault: Option<Fault>,
     timeout_cycles: u64,
     path: &Path,
     progress: &dyn Fn(u64),
 ) -> Result<u64, TraceFileError> {
-    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt)?;
-    rtl.set_timeout_cycles(timeout_cycles);
-    rtl.set_fault(fault);
-    rtl.load_scene(scene)?;
+    let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
     let writer = with_fault(
         format!(
-            "model=pixel_processor simulator={}",
+            "model={} processor={processor} simulator={}",
+            match processor {
+                ProcessorKind::Compact => "pixel_processor",
+                ProcessorKind::Fast => "fast_pp",
+            },
             one_word(crate::VERILATOR_VERSION)
         ),
         fault,
     );
     let header = header(scene, scene_name, TraceSide::Rtl, &writer, window);
-    let mut file = TraceFile::create(path, &header)?;
-    let mut buffer = Vec::new();
-    let mut events = 0;
-    for (x, y) in window.iter() {
-        buffer.clear();
-        let outcome = rtl.run_pixel(x, y, Some(&mut buffer))?;
-        for e in &buffer {
-            file.event(e)?;
+    let events = match processor {
+        ProcessorKind::Compact => {
+            let mut rtl = PixelProcessor::new(recip, sqrt)?;
+            rtl.set_timeout_cycles(timeout_cycles);
+            rtl.set_fault(fault);
+            rtl.load_scene(scene)?;
+            let mut file = TraceFile::create(path, &header)?;
+            let events = write_tiles(&mut file, window, progress, &mut |tile| {
+                let mut pixels = Vec::new();
+                for (x, y) in tile.iter() {
+                    let mut buffer = Vec::new();
+                    let outcome = rtl.run_pixel(x, y, Some(&mut buffer))?;
+                    pixels.push((buffer, outcome));
+                }
+                Ok(pixels)
+            })?;
+            file.finish()?;
+            events
         }
-        file.pixel_end(x, y, outcome)?;
-        events += outcome.events;
-        progress(1);
-    }
-    file.finish()?;
+        ProcessorKind::Fast => {
+            let mut rtl = Top::new_fast(recip, sqrt)?;
+            rtl.set_timeout_cycles(timeout_cycles);
+            rtl.set_fault(fault, u32::MAX);
+            let mut file = TraceFile::create(path, &header)?;
+            let events = write_tiles(&mut file, window, progress, &mut |tile| {
+                rtl.load_scene(scene)?;
+                let coords: Vec<(u32, u32)> = tile.iter().collect();
+                let mut pixels: Vec<Option<TracedPixel>> = vec![None; coords.len()];
+                rtl.run_frame(Source::Stream(&coords), &mut |p| {
+                    // The tile's pixels are distinct, fed row by row.
+                    let i = (p.y - tile.y) * tile.width + (p.x - tile.x);
+                    pixels[i as usize] = Some((p.events.to_vec(), p.outcome));
+                })?;
+                pixels
+                    .into_iter()
+                    .zip(&coords)
+                    .map(|(p, &(x, y))| {
+                        p.ok_or_else(|| {
+                            TraceFileError::Rtl(PpError::Model {
+                                pixel: Some((x, y)),
+                                message: "no result left the processor for this pixel".into(),
+                            })
+                        })
+                    })
+                    .collect()
+            })?;
+            file.finish()?;
+            events
+        }
+    };
     Ok(events)
 }

@@ -691,7 +691,7 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         both(&out)
     );
 
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 5] = [
         (
             &["--processor", "fastest"],
             "invalid value 'fastest' for '--processor <PROCESSOR>'",
@@ -705,12 +705,8 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
             "invalid value '65' for '--procs <N>'",
         ),
         (
-            &["--processor", "fast", "--trace", "t.trace"],
-            "the fast processor has no traced or FST model yet",
-        ),
-        (
             &["--processor", "fast", "--wave", "5"],
-            "the fast processor has no traced or FST model yet",
+            "the fast processor has no FST model yet",
         ),
         (
             &["--processor", "fast", "--coverage", "cov"],

@@ -6,7 +6,9 @@
 //! bad files are clear errors (exit 2).
 //!
 //! Expected values come from the golden model run here on its own, and from
-//! rtl/pp/pp_ctrl.v read here as text, never from trace-diff's code.
+//! rtl/pp/pp_ctrl.v and rtl/fast/fast_ctrl.v read here as text, never from
+//! trace-diff's code. The fast processor's traces are compared the same
+//! way.
 
 mod common;
 
@@ -43,6 +45,17 @@ fn ok(out: Output, what: &str) -> Output {
 
 /// The RTL's trace of `window`, with `fault` in the RTL.
 fn rtl_trace(dir: &Path, name: &str, window: &str, fault: Option<&str>) -> PathBuf {
+    rtl_trace_on("compact", dir, name, window, fault)
+}
+
+/// [`rtl_trace`] on `processor`.
+fn rtl_trace_on(
+    processor: &str,
+    dir: &Path,
+    name: &str,
+    window: &str,
+    fault: Option<&str>,
+) -> PathBuf {
     let path = dir.join(name);
     let mut args = vec![
         "cosim",
@@ -52,6 +65,8 @@ fn rtl_trace(dir: &Path, name: &str, window: &str, fault: Option<&str>) -> PathB
         "1",
         "--window",
         window,
+        "--processor",
+        processor,
     ];
     args.extend(["--trace", arg(&path)]);
     if let Some(f) = fault {
@@ -66,6 +81,17 @@ fn rtl_trace(dir: &Path, name: &str, window: &str, fault: Option<&str>) -> PathB
 
 /// The golden model's trace of `window`, with `fault` in the model.
 fn golden_trace(dir: &Path, name: &str, window: &str, fault: Option<&str>) -> PathBuf {
+    golden_trace_on("compact", dir, name, window, fault)
+}
+
+/// [`golden_trace`] with `processor`'s cycles.
+fn golden_trace_on(
+    processor: &str,
+    dir: &Path,
+    name: &str,
+    window: &str,
+    fault: Option<&str>,
+) -> PathBuf {
     let path = dir.join(name);
     let png = dir.join(format!("{name}.png"));
     let mut args = vec![
@@ -76,6 +102,8 @@ fn golden_trace(dir: &Path, name: &str, window: &str, fault: Option<&str>) -> Pa
         SIZE,
         "--threads",
         "1",
+        "--processor",
+        processor,
     ];
     args.extend([
         "--out",
@@ -106,17 +134,29 @@ fn first_in_state(x: u32, y: u32, state: u16) -> (TraceEvent, String) {
 
 /// The line of rtl/pp/pp_ctrl.v whose case item names `name`, read here.
 fn verilog_line(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl/pp/pp_ctrl.v");
-    let rtl = std::fs::read_to_string(path).expect("pp_ctrl.v");
+    verilog_line_in("rtl/pp/pp_ctrl.v", "module", name)
+}
+
+/// The line of `file` whose case item names `name`, the first after the
+/// line that starts with `after`, read here.
+fn verilog_line_in(file: &str, after: &str, name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    let rtl = std::fs::read_to_string(path).expect("the controller");
     let label = format!("`ISA_ST_{name}");
+    let from = rtl
+        .lines()
+        .position(|l| l.trim_start().starts_with(after))
+        .expect("the line to search after");
     let line = rtl
         .lines()
-        .position(|l| {
+        .enumerate()
+        .skip(from)
+        .position(|(_, l)| {
             let t = l.trim_start();
             t.starts_with(&label) && t[label.len()..].trim_start().starts_with(':')
         })
         .expect("a case item");
-    format!("rtl/pp/pp_ctrl.v:{}", line + 1)
+    format!("{file}:{}", from + line + 1)
 }
 
 /// Where the state sequences of pixel (x, y) with and without `fault`
@@ -139,6 +179,11 @@ fn golden_split(x: u32, y: u32, fault: Fault) -> Option<u32> {
 /// the pixel, the event, the state on both sides with its Verilog line and
 /// its Rust line.
 fn assert_located(stdout: &str, pixel: (u32, u32), state_name: &str) {
+    assert_located_at(stdout, pixel, state_name, &verilog_line(state_name));
+}
+
+/// [`assert_located`], the state's Verilog line `verilog`.
+fn assert_located_at(stdout: &str, pixel: (u32, u32), state_name: &str, verilog: &str) {
     let state = isa::state_code(state_name).expect("a state");
     let (event, rust) = first_in_state(pixel.0, pixel.1, state);
     let head = format!(
@@ -147,8 +192,7 @@ fn assert_located(stdout: &str, pixel: (u32, u32), state_name: &str) {
     );
     assert!(stdout.contains(&head), "expected {head:?} in\n{stdout}");
     let named = format!(
-        "state {state_name} ({state}) [{}], dst {}",
-        verilog_line(state_name),
+        "state {state_name} ({state}) [{verilog}], dst {}",
         isa::register_label(event.dst)
     );
     assert_eq!(
@@ -181,6 +225,65 @@ fn clean_rtl_and_golden_traces_agree_and_both_binaries_say_so() {
         );
         assert!(stdout.contains("PASS"), "{stdout}");
     }
+}
+
+/// The fast processor's trace (`cosim --processor fast --trace`: one
+/// processor fed the window in tiles of 4 rows, its results put back in
+/// row order) agrees with golden's trace with the fast processor's cycles
+/// (`render --trace --processor fast`); against golden's trace with the
+/// compact processor's cycles only the cycles differ, and the headers say
+/// why. A fault in it is located at the line of rtl/fast/fast_ctrl.v that
+/// decodes the state (its `plan` function), read here.
+#[test]
+fn the_fast_processors_trace_agrees_and_its_faults_are_located_in_fast_ctrl() {
+    let dir = common::scratch("trace_diff", "fast");
+    let window = "20,10,35,25";
+    let rtl = rtl_trace_on("fast", &dir, "fast.rtt", window, None);
+    let golden = golden_trace_on("fast", &dir, "golden-fast.rtt", window, None);
+    let out = trace_diff(&[arg(&rtl), arg(&golden)]);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
+    assert!(stdout.contains("256 pixels compared"), "{stdout}");
+    assert!(stdout.contains("PASS"), "{stdout}");
+
+    // The compact processor's cycles: every pixel's count differs (a
+    // barrel pixel waits for its turns), nothing else does.
+    let compact = golden_trace(&dir, "golden-compact.rtt", window, None);
+    let out = trace_diff(&[arg(&rtl), arg(&compact)]);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", text(&out.stderr));
+    assert!(
+        stdout.contains("processor  fast.rtt: fast, golden-compact.rtt: compact"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("(timing only)"), "{stdout}");
+    assert!(
+        stdout.contains("divergent pixels: 256 (0 control-flow, 0 numeric drift)"),
+        "{stdout}"
+    );
+
+    let faulty = rtl_trace_on(
+        "fast",
+        &dir,
+        "faulty.rtt",
+        "30,20,33,22",
+        Some("PRI_HALF:0x400"),
+    );
+    let golden = golden_trace_on("fast", &dir, "golden-small.rtt", "30,20,33,22", None);
+    let out = trace_diff(&[arg(&faulty), arg(&golden)]);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", text(&out.stderr));
+    let fast_line = verilog_line_in(
+        "rtl/fast/fast_ctrl.v",
+        "function [PLW-1:0] plan(",
+        "PRI_HALF",
+    );
+    assert_ne!(fast_line, verilog_line("PRI_HALF"));
+    assert_located_at(&stdout, (30, 20), "PRI_HALF", &fast_line);
+    assert!(
+        stdout.contains("divergent pixels: 12 (0 control-flow, 12 numeric drift)"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -293,7 +293,11 @@ fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
             "{report}"
         );
         let text = report.to_string();
-        let verilog = rtcosim::rtl_source::state_line(fault_state).expect("mapped");
+        let verilog = rtcosim::rtl_source::state_line(
+            rtcosim::processor::ProcessorKind::Compact,
+            fault_state,
+        )
+        .expect("mapped");
         assert!(
             text.contains(&format!("RTL    state {name} ({fault_state}) [{verilog}]")),
             "{text}"

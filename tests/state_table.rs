@@ -25,6 +25,7 @@ const HEADING: &str = "### State table";
 const PROGRAM: &str = "golden/src/micro/program.rs";
 const ISA_RS: &str = "golden/src/micro/isa.rs";
 const PP_CTRL: &str = "rtl/pp/pp_ctrl.v";
+const FAST_CTRL: &str = "rtl/fast/fast_ctrl.v";
 
 fn read(rel: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
@@ -288,35 +289,70 @@ fn pp_ctrl_has_one_case_item_per_state_and_names_its_functions_after_golden() {
     assert!(!rtl.contains("task "), "{PP_CTRL}: tasks are gone");
 }
 
-/// Every ISA state the controller decodes is mapped to its line, and the
-/// mapped line of pp_ctrl.v, read here on its own, is the case item that
-/// names the state.
+/// Every ISA state each controller decodes is mapped to its line, and the
+/// mapped line, read here on its own, is the case item that names the
+/// state: in pp_ctrl.v's `case (st_q)`, and in fast_ctrl.v's `plan`
+/// function (the fast controller's decode of a state into its micro-op).
 #[test]
 fn every_state_maps_to_the_verilog_line_that_decodes_it() {
-    use rtcosim::rtl_source::{state_line, PP_CTRL_STATE_LINES};
-    let rtl = read(PP_CTRL);
-    let lines: Vec<&str> = rtl.lines().collect();
+    use rtcosim::processor::ProcessorKind;
+    use rtcosim::rtl_source::{controller, state_line};
     let table = table();
-    for name in table.keys() {
-        let state = isa::state_code(name).unwrap_or_else(|| panic!("{name}: not an ISA state"));
-        let at = state_line(state).unwrap_or_else(|| panic!("{name}: no Verilog line mapped"));
-        assert_eq!(at.file, PP_CTRL);
-        let text = lines
-            .get(at.line as usize - 1)
-            .unwrap_or_else(|| panic!("{at}: past the end of the file"));
-        let label = format!("`ISA_ST_{name}");
-        let item = text.trim_start().split("//").next().unwrap_or_default();
-        let names_it = item
-            .split(':')
-            .next()
-            .is_some_and(|labels| labels.split(',').any(|l| l.trim() == label));
-        assert!(names_it, "{at} does not name {name}: {text:?}");
+    // The fast controller plans no micro-op for IDLE: an idle context
+    // issues nothing (the plan's default, a NOP that writes nothing), so no
+    // trace event is ever in IDLE. The compact controller decodes it.
+    for (processor, file, within, unplanned) in [
+        (ProcessorKind::Compact, PP_CTRL, "case (st_q)", None),
+        (
+            ProcessorKind::Fast,
+            FAST_CTRL,
+            "function [PLW-1:0] plan(",
+            Some("IDLE"),
+        ),
+    ] {
+        let rtl = read(file);
+        let lines: Vec<&str> = rtl.lines().collect();
+        // The mapped lines lie after `within` and before the next
+        // `endfunction` (pp_ctrl's case is in no function: its end).
+        let first = 1 + lines
+            .iter()
+            .position(|l| l.trim_start().starts_with(within))
+            .unwrap_or_else(|| panic!("{file}: no {within:?}"));
+        let last = first
+            + lines[first..]
+                .iter()
+                .position(|l| l.trim() == "endfunction")
+                .unwrap_or(lines.len() - first);
+        for name in table.keys() {
+            let state = isa::state_code(name).unwrap_or_else(|| panic!("{name}: not an ISA state"));
+            if Some(name.as_str()) == unplanned {
+                assert_eq!(state_line(processor, state), None, "{file}: {name}");
+                continue;
+            }
+            let at = state_line(processor, state)
+                .unwrap_or_else(|| panic!("{file}: {name}: no Verilog line mapped"));
+            assert_eq!(at.file, file);
+            assert!(
+                (first..=last).contains(&(at.line as usize)),
+                "{at} ({name}) is outside lines {first}..={last} of {within:?}"
+            );
+            let text = lines
+                .get(at.line as usize - 1)
+                .unwrap_or_else(|| panic!("{at}: past the end of the file"));
+            let label = format!("`ISA_ST_{name}");
+            let item = text.trim_start().split("//").next().unwrap_or_default();
+            let names_it = item
+                .split(':')
+                .next()
+                .is_some_and(|labels| labels.split(',').any(|l| l.trim() == label));
+            assert!(names_it, "{at} does not name {name}: {text:?}");
+        }
+        assert_eq!(
+            controller(processor).1.len(),
+            table.len() - usize::from(unplanned.is_some()),
+            "{file}: one mapped line per state of the table"
+        );
+        // A state the ISA does not name has no line.
+        assert!(state_line(processor, u16::MAX).is_none());
     }
-    assert_eq!(
-        PP_CTRL_STATE_LINES.len(),
-        table.len(),
-        "one mapped line per state of the table"
-    );
-    // A state the ISA does not name has no line.
-    assert!(state_line(u16::MAX).is_none());
 }

@@ -79,8 +79,10 @@ pub struct CosimArgs {
     /// Also write the RTL's trace (every register-file write from its trace
     /// port, and each pixel's colour and cycles) of the pixels in
     /// --trace-window to this file, in the format of `render --trace`;
-    /// `trace-diff` compares it with a golden trace. The fault, if any, is
-    /// in it.
+    /// `trace-diff` compares it with a golden trace (`render --trace`, with
+    /// the same --processor for the cycles). The fault, if any, is in it.
+    /// The fast processor's trace comes from one processor fed the window
+    /// in tiles of 4 rows.
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
     /// Write the run's files into DIR (created if missing): both sides'
@@ -116,10 +118,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
              fast processor's top goes to 64: --processor fast)"
         );
     }
-    if fast && (args.trace.is_some() || args.wave.wave.is_some()) {
+    if fast && args.wave.wave.is_some() {
         anyhow::bail!(
-            "--trace and --wave re-run pixels on the compact processor's models; the fast \
-             processor has no traced or FST model yet: drop them, or use --processor compact"
+            "--wave re-runs pixels on the compact processor's FST model; the fast \
+             processor has no FST model yet: drop it, or use --processor compact"
         );
     }
     if args.stall > 0 && args.procs.is_none() && !fast {
@@ -255,6 +257,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
                 &scene,
                 &args.scene.scene,
                 trace_window,
+                args.processor,
                 args.fault,
                 args.timeout_cycles,
                 path,

@@ -398,9 +398,9 @@ fn the_extractor_finds_what_a_reader_would_run() {
     );
 }
 
-/// Each `state NAME (id) [rtl/pp/pp_ctrl.v:N]` a document quotes (pasted
-/// output of cosim and trace-diff) must name the line of `pp_ctrl.v` where
-/// `ISA_ST_NAME` is decoded, and each `program.rs:M` quoted for a state
+/// Each `state NAME (id) [rtl/pp/pp_ctrl.v:N]` (or `[rtl/fast/fast_ctrl.v:N]`)
+/// a document quotes (pasted output of cosim and trace-diff) must name the
+/// line of that controller where `ISA_ST_NAME` is decoded, and each `program.rs:M` quoted for a state
 /// (`issued by ...` on the same line, or `NAME issued in fn f (...:M`)
 /// the line of golden that issues it: the output goes stale when either
 /// file moves, and a reader follows these numbers.
@@ -408,10 +408,11 @@ fn the_extractor_finds_what_a_reader_would_run() {
 fn quoted_source_lines_are_the_states_lines() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let source = |p: &str| std::fs::read_to_string(root.join(p)).expect(p);
-    let (ctrl, program) = (
-        source("rtl/pp/pp_ctrl.v"),
-        source("golden/src/micro/program.rs"),
-    );
+    let controllers = [
+        ("rtl/pp/pp_ctrl.v", source("rtl/pp/pp_ctrl.v")),
+        ("rtl/fast/fast_ctrl.v", source("rtl/fast/fast_ctrl.v")),
+    ];
+    let program = source("golden/src/micro/program.rs");
     let line_of = |text: &str, n: &str| -> String {
         let n: usize = n.parse().unwrap_or(0);
         text.lines()
@@ -451,10 +452,12 @@ fn quoted_source_lines_are_the_states_lines() {
                 // This state's own quote: up to the next state quoted.
                 let rest = words[i + 1..].join(" ");
                 let own = rest.split(" state ").next().unwrap_or("");
-                if let Some(n) = number_after(own, "[rtl/pp/pp_ctrl.v:") {
-                    checked += 1;
-                    if !line_of(&ctrl, &n).contains(&format!("`ISA_ST_{state}:")) {
-                        wrong.push(format!("{at}: pp_ctrl.v:{n} is {:?}", line_of(&ctrl, &n)));
+                for (file, ctrl) in &controllers {
+                    if let Some(n) = number_after(own, &format!("[{file}:")) {
+                        checked += 1;
+                        if !line_of(ctrl, &n).contains(&format!("`ISA_ST_{state}:")) {
+                            wrong.push(format!("{at}: {file}:{n} is {:?}", line_of(ctrl, &n)));
+                        }
                     }
                 }
                 if let Some(m) = number_after(own, "golden/src/micro/program.rs:") {

@@ -12,6 +12,7 @@ use golden::micro::Fault;
 use golden::micro::{FrameStats, OpClass};
 use golden::scene::Scene;
 use golden::window::Window;
+use rtcosim::processor::ProcessorKind;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -48,6 +49,12 @@ pub struct RenderArgs {
     /// Only with --trace.
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault, requires = "trace")]
     pub fault: Option<Fault>,
+    /// Whose cycles the trace's pixels carry: the compact processor's
+    /// (golden::micro's rule), or the fast one's (the barrel rule, the
+    /// window streamed in tiles of 4 rows, as `cosim --processor fast
+    /// --trace` runs it). Only with --trace.
+    #[arg(long, value_enum, default_value_t, requires = "trace")]
+    pub processor: ProcessorKind,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -148,6 +155,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 &scene,
                 &args.scene.scene,
                 window,
+                args.processor,
                 args.fault,
                 path,
                 progress,

@@ -15,7 +15,8 @@ use std::time::Instant;
 
 /// Compare two trace files (from `rtcosim cosim --trace` or `rtcosim
 /// render --trace`) pixel by pixel and name the first divergent state in
-/// the Verilog (rtl/pp/pp_ctrl.v) and in the Rust (golden/src/micro).
+/// the Verilog (rtl/pp/pp_ctrl.v, or rtl/fast/fast_ctrl.v for the fast
+/// processor's traces) and in the Rust (golden/src/micro).
 ///
 /// Exits 0 when every pixel in both traces agrees within --max-ulps, 1 on
 /// a divergence, 2 on an error (an unreadable, truncated or foreign file,
@@ -56,6 +57,7 @@ fn describe(h: &TraceHeader) -> String {
     for key in [
         "simulator",
         "model",
+        "processor",
         "scene",
         "size",
         "recip",
@@ -128,7 +130,7 @@ fn print_text(
     listed: &[String],
     seconds: f64,
 ) -> Result<()> {
-    let Labels { a: la, b: lb } = labels;
+    let Labels { a: la, b: lb, .. } = labels;
     writeln!(
         out,
         "A = {}: {}",
@@ -283,8 +285,8 @@ fn to_json(diff: &TraceDiff, labels: &Labels, seconds: f64) -> serde_json::Value
         })).collect::<Vec<_>>(),
         "sides": [labels.a, labels.b],
         "context": {
-            "a": diff.context.a.iter().map(|e| event_json(e, None)).collect::<Vec<_>>(),
-            "b": diff.context.b.iter().map(|e| event_json(e, None)).collect::<Vec<_>>(),
+            "a": diff.context.a.iter().map(|e| event_json(labels.processor, e, None)).collect::<Vec<_>>(),
+            "b": diff.context.b.iter().map(|e| event_json(labels.processor, e, None)).collect::<Vec<_>>(),
         },
         "seconds": seconds,
     })

@@ -4,6 +4,7 @@
 use super::{
     CompareReport, Divergence, DivergenceClass, DivergenceKind, Labels, SourceLine, UlpHistogram,
 };
+use crate::processor::ProcessorKind;
 use crate::rtl_source::state_line;
 use golden::micro::isa::{register_label, state_name};
 use golden::pixel::PixelOutcome;
@@ -18,7 +19,7 @@ fn rust_line(at: Option<SourceLine>) -> Value {
 
 /// An event: state (name, id, Verilog line), destination, lanes, values in
 /// hex and as floats (lanes not written are null).
-pub fn event_json(e: &TraceEvent, at: Option<SourceLine>) -> Value {
+pub fn event_json(processor: ProcessorKind, e: &TraceEvent, at: Option<SourceLine>) -> Value {
     let lanes: Vec<Value> = (0..3)
         .map(|i| {
             if e.lanes >> i & 1 == 1 {
@@ -33,7 +34,7 @@ pub fn event_json(e: &TraceEvent, at: Option<SourceLine>) -> Value {
         "seq": e.seq,
         "state": state_name(e.state),
         "state_id": e.state,
-        "verilog": state_line(e.state).map(|l| l.to_string()),
+        "verilog": state_line(processor, e.state).map(|l| l.to_string()),
         "rust": rust_line(at),
         "dst": register_label(e.dst),
         "lanes": lanes,
@@ -76,6 +77,7 @@ impl Divergence {
     /// The divergence, its class and both sides' events and outcomes, the
     /// sides named by `labels`.
     pub fn to_json(&self, labels: &Labels) -> Value {
+        let p = labels.processor;
         let (a, b) = self.events();
         let kind = match self.kind {
             DivergenceKind::Event { .. } => "event",
@@ -98,10 +100,10 @@ impl Divergence {
             DivergenceClass::ControlFlow(s) => json!({
                 "class": "control_flow",
                 "split_seq": s.seq,
-                "a": s.a.map(|e| event_json(&e, None)),
-                "b": s.b.map(|e| event_json(&e, None)),
-                "branch_after": s.after.map(|e| event_json(&e, None)),
-                "cause": s.cause.map(|(a, b)| json!({ "a": event_json(&a, None), "b": event_json(&b, None) })),
+                "a": s.a.map(|e| event_json(p, &e, None)),
+                "b": s.b.map(|e| event_json(p, &e, None)),
+                "branch_after": s.after.map(|e| event_json(p, &e, None)),
+                "cause": s.cause.map(|(a, b)| json!({ "a": event_json(p, &a, None), "b": event_json(p, &b, None) })),
             }),
         };
         json!({
@@ -110,8 +112,8 @@ impl Divergence {
             "kind": kind,
             "classification": class,
             "sides": [labels.a, labels.b],
-            "a": a.map(|e| event_json(&e, self.a_at)),
-            "b": b.map(|e| event_json(&e, self.b_at)),
+            "a": a.map(|e| event_json(p, &e, self.a_at)),
+            "b": b.map(|e| event_json(p, &e, self.b_at)),
             "lane_ulps": distances,
             "a_outcome": outcome(&self.a),
             "b_outcome": outcome(&self.b),

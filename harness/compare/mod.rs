@@ -21,6 +21,7 @@
 mod json;
 mod text;
 
+use crate::processor::ProcessorKind;
 use golden::fp::{ulp_distance, UlpDistance};
 use golden::pixel::PixelOutcome;
 use golden::trace::TraceEvent;
@@ -32,19 +33,28 @@ pub use text::state_with_line;
 /// The source line of the golden model that issued an event.
 pub type SourceLine = &'static Location<'static>;
 
-/// What the two sides are called in reports.
+/// What the two sides are called in reports, and the processor whose
+/// controller's Verilog lines the reports name for a state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Labels {
     pub a: String,
     pub b: String,
+    pub processor: ProcessorKind,
 }
 
 impl Labels {
+    /// Sides `a` and `b`, states named at the compact processor's lines.
     pub fn new(a: impl Into<String>, b: impl Into<String>) -> Labels {
         Labels {
             a: a.into(),
             b: b.into(),
+            processor: ProcessorKind::Compact,
         }
+    }
+
+    /// The same sides, states named at `processor`'s lines.
+    pub fn on(self, processor: ProcessorKind) -> Labels {
+        Labels { processor, ..self }
     }
 
     /// A co-simulation: the RTL (A) against the golden model (B).

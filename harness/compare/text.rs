@@ -5,6 +5,7 @@ use super::{
     lane_distance, CompareReport, Divergence, DivergenceClass, DivergenceKind, Labels, SourceLine,
     UlpHistogram,
 };
+use crate::processor::ProcessorKind;
 use crate::rtl_source::state_line;
 use golden::micro::isa::{lanes_label, register_label, state_label};
 use golden::trace::TraceEvent;
@@ -20,9 +21,9 @@ fn rgb_label(rgb: [u32; 3]) -> String {
 }
 
 /// A state's label and the Verilog line that decodes it:
-/// `SPH_BD (40) [rtl/pp/pp_ctrl.v:640]`.
-pub fn state_with_line(state: u16) -> String {
-    match state_line(state) {
+/// `SPH_BD (40) [rtl/pp/pp_ctrl.v:640]`, on the compact processor.
+pub fn state_with_line(processor: ProcessorKind, state: u16) -> String {
+    match state_line(processor, state) {
         Some(at) => format!("{} [{at}]", state_label(state)),
         None => state_label(state),
     }
@@ -35,10 +36,10 @@ fn rust_line(at: SourceLine) -> String {
 
 /// One side's event: state with its Verilog line, destination and lanes,
 /// and the golden source line when known.
-fn event_line(e: &TraceEvent, at: Option<SourceLine>) -> String {
+fn event_line(processor: ProcessorKind, e: &TraceEvent, at: Option<SourceLine>) -> String {
     let mut line = format!(
         "state {}, dst {}.{}",
-        state_with_line(e.state),
+        state_with_line(processor, e.state),
         register_label(e.dst),
         lanes_label(e.lanes)
     );
@@ -56,7 +57,7 @@ fn lane_lines(
     a: &TraceEvent,
     b: &TraceEvent,
 ) -> fmt::Result {
-    let Labels { a: la, b: lb } = labels;
+    let Labels { a: la, b: lb, .. } = labels;
     for i in 0..3 {
         let (wa, wb) = (a.lanes >> i & 1 == 1, b.lanes >> i & 1 == 1);
         if !wa && !wb {
@@ -108,15 +109,16 @@ impl fmt::Display for DivergenceClass {
 
 impl fmt::Display for DivergenceText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let Labels { a: la, b: lb } = self.labels;
+        let Labels { a: la, b: lb, .. } = self.labels;
+        let p = self.labels.processor;
         let d = self.d;
         let (x, y) = (d.x, d.y);
         let width = la.len().max(lb.len());
         match &d.kind {
             DivergenceKind::Event { a, b } => {
                 write!(f, "pixel ({x}, {y}) event #{} ({}):", b.seq, d.class)?;
-                write!(f, "\n  {la:<width$} {}", event_line(a, d.a_at))?;
-                write!(f, "\n  {lb:<width$} {}", event_line(b, d.b_at))?;
+                write!(f, "\n  {la:<width$} {}", event_line(p, a, d.a_at))?;
+                write!(f, "\n  {lb:<width$} {}", event_line(p, b, d.b_at))?;
                 lane_lines(f, self.labels, a, b)?;
             }
             DivergenceKind::MissingEvent { b } => {
@@ -125,7 +127,7 @@ impl fmt::Display for DivergenceText<'_> {
                     "pixel ({x}, {y}) event #{} ({}): the {la} wrote only {} events; {lb} goes on:",
                     b.seq, d.class, d.a.events
                 )?;
-                write!(f, "\n  {lb:<width$} {}", event_line(b, d.b_at))?;
+                write!(f, "\n  {lb:<width$} {}", event_line(p, b, d.b_at))?;
             }
             DivergenceKind::ExtraEvent { a } => {
                 write!(
@@ -133,7 +135,7 @@ impl fmt::Display for DivergenceText<'_> {
                     "pixel ({x}, {y}) event #{} ({}): {lb} wrote only {} events; the {la} goes on:",
                     a.seq, d.class, d.b.events
                 )?;
-                write!(f, "\n  {la:<width$} {}", event_line(a, d.a_at))?;
+                write!(f, "\n  {la:<width$} {}", event_line(p, a, d.a_at))?;
             }
             DivergenceKind::Rgb => {
                 write!(
@@ -159,7 +161,7 @@ impl fmt::Display for DivergenceText<'_> {
                     "\n  the state sequences split at event #{}: the branch after event #{} in state {} went another way",
                     split.seq,
                     after.seq,
-                    state_with_line(after.state)
+                    state_with_line(p, after.state)
                 )?,
                 None => write!(f, "\n  the state sequences split at the first event")?,
             }
@@ -169,7 +171,7 @@ impl fmt::Display for DivergenceText<'_> {
                         Some(e) => write!(
                             f,
                             "\n  {label:<width$} goes on with {}",
-                            event_line(e, None)
+                            event_line(p, e, None)
                         )?,
                         None => write!(f, "\n  {label:<width$} had ended")?,
                     }
@@ -184,7 +186,7 @@ impl fmt::Display for DivergenceText<'_> {
                         f,
                         "\n  the first value apart before it, event #{} in state {}, dst {}:",
                         a.seq,
-                        state_with_line(a.state),
+                        state_with_line(p, a.state),
                         register_label(a.dst)
                     )?;
                     lane_lines(f, self.labels, a, b)?;
@@ -207,7 +209,7 @@ impl fmt::Display for CompareReport {
     /// The counts, one line each (the first divergence is
     /// [`Divergence::text`]).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let Labels { a: la, b: lb } = &self.labels;
+        let Labels { a: la, b: lb, .. } = &self.labels;
         let c = &self.counts;
         writeln!(
             f,

@@ -309,7 +309,7 @@ pub fn run_indices(
         in_limits_accepted: 0,
         refused_by_field: BTreeMap::new(),
         accepted: 0,
-        compare: CompareReport::new(Labels::rtl_golden()),
+        compare: CompareReport::new(Labels::rtl_golden().on(options.processor)),
         max_errors: Vec::new(),
         nonfinite: 0,
         failures: Vec::new(),
