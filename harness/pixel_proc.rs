@@ -130,21 +130,49 @@ pub enum PpError {
     Poisoned,
 }
 
-/// One of the top's pixel processors: processor `index` of `procs`, the
-/// instance `top.g_pp[index].g_compact.u_pp` of rtl/top.v.
+/// Where in the top a pixel ran: slot `index` of `procs`. In a top of
+/// compact processors a slot is a processor, the instance
+/// `top.g_pp[index].g_compact.u_pp` of rtl/top.v; for the fast processor
+/// driven alone a slot is one of its contexts; in a top of fast processors
+/// slot `index` is context `index mod 32` of processor `index / 32`,
+/// `top.g_pp[index / 32].g_fast.u_pp`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ProcessorId {
     pub index: u32,
     pub procs: u32,
+    pub layout: SlotLayout,
+}
+
+/// What the slots of a top are (see [`ProcessorId`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum SlotLayout {
+    /// Compact processors, one a slot.
+    #[default]
+    Compact,
+    /// The contexts of one fast processor.
+    FastContexts,
+    /// The contexts of several fast processors, processor by processor.
+    FastProcessors,
 }
 
 impl std::fmt::Display for ProcessorId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "processor {} of {} (top.g_pp[{}].g_compact.u_pp)",
-            self.index, self.procs, self.index
-        )
+        let (i, n) = (self.index, self.procs);
+        match self.layout {
+            SlotLayout::Compact => write!(f, "processor {i} of {n} (top.g_pp[{i}].g_compact.u_pp)"),
+            SlotLayout::FastContexts => write!(f, "context {i} of {n} of the fast processor"),
+            SlotLayout::FastProcessors => {
+                let k = crate::top::FAST_CONTEXTS;
+                write!(
+                    f,
+                    "processor {} of {}, context {} (top.g_pp[{}].g_fast.u_pp)",
+                    i / k,
+                    n / k,
+                    i % k,
+                    i / k
+                )
+            }
+        }
     }
 }
 

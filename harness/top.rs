@@ -37,7 +37,8 @@
 
 use crate::bridge::ffi;
 use crate::pixel_proc::{
-    check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, DEFAULT_TIMEOUT_CYCLES,
+    check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
+    DEFAULT_TIMEOUT_CYCLES,
 };
 use cxx::UniquePtr;
 use golden::fp::Method;
@@ -129,6 +130,7 @@ struct Loaded {
 /// ```
 pub struct Top {
     procs: u32,
+    layout: SlotLayout,
     recip: Method,
     sqrt: Method,
     inner: UniquePtr<ffi::TopSim>,
@@ -152,7 +154,7 @@ impl Top {
             sqrt,
             message: e.what().to_string(),
         })?;
-        Ok(Top::around(inner, procs, recip, sqrt))
+        Ok(Top::around(inner, SlotLayout::Compact, procs, recip, sqrt))
     }
 
     /// Builds and resets the fast processor (`rtl/fast/fast_pp.v`) with
@@ -168,7 +170,13 @@ impl Top {
                 sqrt,
                 message: e.what().to_string(),
             })?;
-        Ok(Top::around(inner, FAST_CONTEXTS, recip, sqrt))
+        Ok(Top::around(
+            inner,
+            SlotLayout::FastContexts,
+            FAST_CONTEXTS,
+            recip,
+            sqrt,
+        ))
     }
 
     /// Builds and resets the top of `procs` fast processors (`rtl/top.v`
@@ -185,12 +193,25 @@ impl Top {
                 message: e.what().to_string(),
             }
         })?;
-        Ok(Top::around(inner, procs * FAST_CONTEXTS, recip, sqrt))
+        Ok(Top::around(
+            inner,
+            SlotLayout::FastProcessors,
+            procs * FAST_CONTEXTS,
+            recip,
+            sqrt,
+        ))
     }
 
-    fn around(inner: UniquePtr<ffi::TopSim>, procs: u32, recip: Method, sqrt: Method) -> Top {
+    fn around(
+        inner: UniquePtr<ffi::TopSim>,
+        layout: SlotLayout,
+        procs: u32,
+        recip: Method,
+        sqrt: Method,
+    ) -> Top {
         let mut top = Top {
             procs,
+            layout,
             recip,
             sqrt,
             inner,
@@ -355,6 +376,7 @@ impl Top {
                         processor: Some(ProcessorId {
                             index: u32::from(run.proc),
                             procs: self.procs,
+                            layout: self.layout,
                         }),
                         kind: HangKind::Timeout,
                         // The C++ counts the start cycle too; a pixel's

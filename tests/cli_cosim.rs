@@ -199,6 +199,49 @@ fn a_hung_rtl_is_an_error_naming_the_pixel() {
     assert!(stderr.contains("--timeout-cycles"), "{stderr}");
 }
 
+/// The watchdog on the fast processor, alone and in a top of 2: no pixel
+/// finishes in 50 cycles (a barrel pixel needs its turns, thousands of
+/// cycles), so the error names the pixel and where it ran: its context, and
+/// in the top its processor and the instance.
+#[test]
+fn a_hung_fast_processor_is_an_error_naming_the_pixel_and_its_context() {
+    for (procs, place) in [
+        (
+            None,
+            " of 32 of the fast processor: no done after 51 cycles",
+        ),
+        (
+            Some("2"),
+            "(top.g_pp[0].g_fast.u_pp): no done after 51 cycles",
+        ),
+    ] {
+        let mut args = vec![
+            "cosim",
+            "--size",
+            "40x30",
+            "--window",
+            "3,2",
+            "--processor",
+            "fast",
+            "--timeout-cycles",
+            "50",
+        ];
+        if let Some(n) = procs {
+            args.extend(["--procs", n]);
+        }
+        let out = rtcosim(&args);
+        assert_eq!(out.status.code(), Some(2), "{}", both(&out));
+        let stderr = text(&out.stderr);
+        let head = match procs {
+            None => "error: co-simulation stopped: hung RTL at pixel (3, 2) on context ",
+            Some(_) => "error: co-simulation stopped: hung RTL at pixel (3, 2) on processor 0 of 2, context ",
+        };
+        assert!(stderr.contains(head), "{stderr}");
+        assert!(stderr.contains(place), "{stderr}");
+        assert!(stderr.contains("--timeout-cycles is 50"), "{stderr}");
+    }
+}
+
 /// Width and height from a PNG's IHDR chunk.
 fn png_size(path: &std::path::Path) -> (u32, u32) {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -15,7 +15,7 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::window::Window;
 use rtcosim::cosim::{self, CosimError, CosimOptions, TopOptions};
-use rtcosim::pixel_proc::{Fault, HangKind, PpError, ProcessorId};
+use rtcosim::pixel_proc::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
 use rtcosim::top::{Source, Top};
 use std::collections::BTreeMap;
 
@@ -289,7 +289,14 @@ fn a_hung_processor_trips_the_watchdog_with_its_name() {
         panic!("not a hang: {err}");
     };
     assert_eq!((x, y), slow);
-    assert_eq!(processor, Some(ProcessorId { index: 2, procs: 4 }));
+    assert_eq!(
+        processor,
+        Some(ProcessorId {
+            index: 2,
+            procs: 4,
+            layout: SlotLayout::Compact
+        })
+    );
     assert_eq!(kind, HangKind::Timeout);
     assert!(ran > timeout, "{err}");
     assert!(last_state.is_some(), "{err}");
