@@ -34,6 +34,7 @@ use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::{Window, WindowError};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -308,6 +309,8 @@ pub enum CosimError {
         width: u32,
         height: u32,
     },
+    #[error("pixel ({x}, {y}) is listed twice: the fast processor's pixels must be distinct")]
+    Repeated { x: u32, y: u32 },
 }
 
 /// A worker's verilated model with the scene loaded, and its event buffer.
@@ -513,7 +516,8 @@ pub fn run_top(
         &tiles,
         || top.build_for(scene, options),
         |t: &mut Top, tile: &Window| {
-            let run = run_tile(t, scene, &golden, *tile, options, top, &mut |_| {})?;
+            let coords: Vec<(u32, u32)> = tile.iter().collect();
+            let run = run_tile(t, scene, &golden, &coords, options, top, &mut |_| {})?;
             Ok((run, tile.pixels()))
         },
         progress,
@@ -536,7 +540,10 @@ pub fn run_top_on(
     let golden = Processor::new(scene);
     let done = tiles(window)
         .into_iter()
-        .map(|tile| run_tile(t, scene, &golden, tile, options, top, each))
+        .map(|tile| {
+            let coords: Vec<(u32, u32)> = tile.iter().collect();
+            run_tile(t, scene, &golden, &coords, options, top, each)
+        })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(top_report(scene, window, options, top, done))
 }
@@ -551,24 +558,26 @@ struct TileRun {
     predicted: Option<u64>,
 }
 
-/// Streams `tile` of `scene` through `t` (reset and loaded for the tile,
-/// so that its cycles are its own) and compares every pixel with golden as
-/// its result leaves. The fast processor's cycles are the barrel rule's
-/// for the tile's pixels in the order they are fed.
+/// Streams the pixels `coords` of `scene` (a tile: distinct, not empty)
+/// through `t` (reset and loaded for the tile, so that its cycles are its
+/// own) and compares every pixel with golden as its result leaves. The
+/// fast processor's cycles are the barrel rule's for the tile's pixels in
+/// the order they are fed.
 fn run_tile(
     t: &mut Top,
     scene: &Scene,
     golden: &Processor,
-    tile: Window,
+    coords: &[(u32, u32)],
     options: &CosimOptions,
     top: &TopOptions,
     each: &mut dyn FnMut(&PixelVerdict),
 ) -> Result<TileRun, PpError> {
     let fast = top.processor == ProcessorKind::Fast;
-    let coords: Vec<(u32, u32)> = tile.iter().collect();
+    // The stalls' seed: the tile's first row, + 1.
+    let seed = coords.first().map_or(1, |&(_, y)| u64::from(y) + 1);
     let start = |t: &mut Top| -> Result<(), PpError> {
         t.load_scene(scene)?;
-        t.set_backpressure(u64::from(tile.y) + 1, top.stall_percent);
+        t.set_backpressure(seed, top.stall_percent);
         Ok(())
     };
     // With the result stream held back, a first run of the tile finds the
@@ -579,7 +588,7 @@ fn run_tile(
     let (mut refused, mut stalled) = (Vec::new(), Vec::new());
     if fast && top.stall_percent > 0 {
         start(t)?;
-        t.run_frame(Source::Stream(&coords), &mut |_| {})?;
+        t.run_frame(Source::Stream(coords), &mut |_| {})?;
         refused = t.refused_takes();
         stalled = t.stalled_cycles();
     }
@@ -615,9 +624,11 @@ fn run_tile(
     } else {
         (Vec::new(), None)
     };
+    // Where each pixel is in the tile (its cycles' index).
+    let at: HashMap<(u32, u32), usize> = coords.iter().enumerate().map(|(i, &c)| (c, i)).collect();
     let mut compare = CompareReport::new(Labels::rtl_golden().on(top.processor));
     let mut colours = Vec::new();
-    let stats = t.run_frame(Source::Stream(&coords), &mut |p| {
+    let stats = t.run_frame(Source::Stream(coords), &mut |p| {
         let v = compare_pixel(
             p.x,
             p.y,
@@ -628,9 +639,7 @@ fn run_tile(
                 let result = golden.render_pixel(p.x, p.y, |e, at| sink(e, Some(at)));
                 let mut outcome = PixelOutcome::from(&result);
                 if fast {
-                    // The tile's pixels are distinct, fed row by row.
-                    let i = (p.y - tile.y) * tile.width + (p.x - tile.x);
-                    outcome.cycles = barrel_cycles[i as usize];
+                    outcome.cycles = barrel_cycles[at[&(p.x, p.y)]];
                 }
                 outcome
             },
@@ -724,13 +733,17 @@ pub fn run(
 }
 
 /// Co-simulates a list of pixels of `scene` (any order, any subset of the
-/// image; the report counts them in the order given), chunks in parallel on
-/// the current rayon pool with the same workers and comparison as [`run`]:
-/// for checking a sample of pixels rather than a window. `progress` is
-/// called with the number of pixels finished, once per chunk.
+/// image; the report counts them in the order given) on `processor`,
+/// chunks in parallel on the current rayon pool with the same comparison
+/// as [`run`] and [`run_top`]: for checking a sample of pixels rather than
+/// a window. The compact processor runs them one by one; the fast one is
+/// streamed each chunk as a tile, reset before it, its cycles the barrel
+/// rule's for the chunk (the fast processor's pixels must be distinct).
+/// `progress` is called with the number of pixels finished, once per chunk.
 pub fn run_pixels(
     scene: &Scene,
     pixels: &[(u32, u32)],
+    processor: ProcessorKind,
     options: &CosimOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<CompareReport, CosimError> {
@@ -744,25 +757,52 @@ pub fn run_pixels(
         });
     }
     let golden = Processor::new(scene);
-    let chunks: Vec<&[(u32, u32)]> = pixels.chunks(PIXEL_CHUNK).collect();
-    let done = par_units(
-        &chunks,
-        || Worker::new(scene, options),
-        |w: &mut Worker, chunk| {
-            let mut report = CompareReport::new(Labels::rtl_golden());
-            for &(x, y) in *chunk {
-                report.add(&compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?);
+    let labels = Labels::rtl_golden().on(processor);
+    let done = match processor {
+        ProcessorKind::Compact => {
+            let chunks: Vec<&[(u32, u32)]> = pixels.chunks(PIXEL_CHUNK).collect();
+            par_units(
+                &chunks,
+                || Worker::new(scene, options),
+                |w: &mut Worker, chunk| {
+                    let mut report = CompareReport::new(labels.clone());
+                    for &(x, y) in *chunk {
+                        report.add(&compare_one(&mut w.rtl, &mut w.events, &golden, x, y)?);
+                    }
+                    Ok((report, chunk.len() as u64))
+                },
+                progress,
+            )?
+        }
+        ProcessorKind::Fast => {
+            let mut seen = std::collections::HashSet::new();
+            if let Some(&(x, y)) = pixels.iter().find(|&&p| !seen.insert(p)) {
+                return Err(CosimError::Repeated { x, y });
             }
-            Ok((report, chunk.len() as u64))
-        },
-        progress,
-    )?;
-    let mut compare = CompareReport::new(Labels::rtl_golden());
+            let top = TopOptions::fast();
+            let chunks: Vec<&[(u32, u32)]> = pixels.chunks(FAST_PIXEL_CHUNK).collect();
+            par_units(
+                &chunks,
+                || top.build_for(scene, options),
+                |t: &mut Top, chunk| {
+                    let run = run_tile(t, scene, &golden, chunk, options, &top, &mut |_| {})?;
+                    Ok((run.compare, chunk.len() as u64))
+                },
+                progress,
+            )?
+        }
+    };
+    let mut compare = CompareReport::new(labels);
     for report in done {
         compare.merge(report);
     }
     Ok(compare)
 }
+
+/// Pixels the fast processor is streamed at a time by [`run_pixels`]:
+/// enough to keep its contexts busy (a reference frame's tile of 4 rows is
+/// 3,200).
+const FAST_PIXEL_CHUNK: usize = 1024;
 
 /// Pixels a worker of [`run_pixels`] takes at a time.
 const PIXEL_CHUNK: usize = 64;

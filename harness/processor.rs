@@ -14,7 +14,19 @@
 use std::fmt;
 
 /// A pixel processor of `rtl/`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum ProcessorKind {
     /// rtl/pp/pixel_processor.v: one pixel at a time.
     #[default]

@@ -457,3 +457,42 @@ fn a_top_of_fast_processors_checkers_fail_on_injected_faults() {
 fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
     assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast_top(TOP_PROCS));
 }
+
+/// `cosim::run_pixels` on the fast processor (the sweep's confirmation):
+/// a scattered list of pixels, not a window, more than one chunk of 1,024,
+/// streamed chunk by chunk and checked like a window (cycles by the barrel
+/// rule for each chunk); a fault is seen; a pixel listed twice is refused
+/// by name (results are matched to pixels by their coordinates).
+#[test]
+fn a_list_of_pixels_runs_on_the_fast_processor() {
+    use rtcosim::cosim::{run_pixels, CosimError, CosimOptions};
+    use rtcosim::processor::ProcessorKind;
+    let scene = Scene::reference().resized(64, 48, "test").expect("resized");
+    // Every other pixel, backwards (out of row order): 1,536, two chunks.
+    let pixels: Vec<(u32, u32)> = (0..64 * 48)
+        .rev()
+        .step_by(2)
+        .map(|i| (i % 64, i / 64))
+        .collect();
+    assert!(pixels.len() > 1024);
+    let options = CosimOptions::default();
+    let report = run_pixels(&scene, &pixels, ProcessorKind::Fast, &options, &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(report.passed(), "{report}");
+    assert_eq!(report.counts.pixels, pixels.len() as u64);
+    let faulty = CosimOptions {
+        fault: Some("PRI_HALF:0x400".parse().expect("a fault")),
+        ..CosimOptions::default()
+    };
+    let report = run_pixels(&scene, &pixels[..40], ProcessorKind::Fast, &faulty, &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.counts.divergent_pixels, 40, "{report}");
+    let twice = [(3, 4), (5, 6), (3, 4)];
+    let err = run_pixels(&scene, &twice, ProcessorKind::Fast, &options, &|_| {})
+        .expect_err("a repeated pixel");
+    assert_eq!(err, CosimError::Repeated { x: 3, y: 4 });
+    assert_eq!(
+        err.to_string(),
+        "pixel (3, 4) is listed twice: the fast processor's pixels must be distinct"
+    );
+}

@@ -340,6 +340,70 @@ fn an_injected_rtl_fault_fails_the_confirmation() {
     );
 }
 
+/// `--processor fast`: the front is confirmed on the fast processor (each
+/// configuration's pixels streamed through it, cycles by the barrel rule),
+/// the output and sweep.json say so, and a fault in it fails the
+/// confirmation.
+#[test]
+fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
+    for fault in [None, Some("PRI_HALF:0x400")] {
+        let dir = scratch(
+            "sweep",
+            if fault.is_some() {
+                "fast-fault"
+            } else {
+                "fast"
+            },
+        );
+        let mut args = vec![
+            "sweep",
+            "--scene",
+            "reference",
+            "--size",
+            "16x12",
+            "--depths",
+            "2",
+            "--sample",
+            "8",
+            "--processor",
+            "fast",
+            "--out",
+            arg(&dir),
+        ];
+        if let Some(f) = fault {
+            args.extend(["--fault", f]);
+        }
+        let out = rtcosim(&args);
+        let stdout = text(&out.stdout);
+        let expected = if fault.is_some() { 1 } else { 0 };
+        assert_eq!(
+            out.status.code(),
+            Some(expected),
+            "{stdout}{}",
+            text(&out.stderr)
+        );
+        assert!(
+            stdout
+                .contains("RTL: the front co-simulated on the fast processor (rtl/fast/fast_pp.v)"),
+            "{stdout}"
+        );
+        let (_, rows) = read_csv(&dir.join("sweep.csv"));
+        let front: Vec<&Record> = rows.iter().filter(|r| r["pareto"] == "true").collect();
+        assert!(!front.is_empty());
+        let verdict = if fault.is_some() { "false" } else { "true" };
+        assert!(
+            front
+                .iter()
+                .all(|r| r["rtl_confirmed"] == verdict && num(r, "rtl_pixels") >= 8.0),
+            "{front:?}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
+                .expect("valid JSON");
+        assert_eq!(json["rtl_processor"], "fast");
+    }
+}
+
 #[test]
 fn refused_configurations_are_skipped_and_counted() {
     let dir = scratch("sweep", "box-room");

@@ -7,6 +7,7 @@ use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
 use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::processor::ProcessorKind;
 use rtcosim::scenes::{self, Overrides};
 use rtcosim::shard::file::{self as shard_file, ShardFile};
 use rtcosim::shard::Shard;
@@ -54,6 +55,11 @@ pub struct SweepArgs {
     /// Do not co-simulate the front on the RTL (the RTL columns stay empty).
     #[arg(long)]
     pub no_rtl: bool,
+    /// The pixel processor that confirms the front: compact
+    /// (rtl/pp/pixel_processor.v) or fast (rtl/fast/fast_pp.v, each
+    /// configuration's pixels streamed through it in chunks of 1,024).
+    #[arg(long, value_enum, default_value_t, conflicts_with = "no_rtl")]
+    pub processor: ProcessorKind,
     /// Self-test: inject a bit flip into the RTL's writes in state STATE
     /// (see `cosim --fault`), so the confirmation must fail (exit 1).
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
@@ -105,6 +111,7 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         seed: args.seed,
         fault: args.fault.map(|f| f.to_string()),
         timeout_cycles: args.timeout_cycles,
+        processor: args.processor,
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     // Every path, the whole run's and a shard's, reads the scenes back
@@ -194,7 +201,12 @@ pub fn finish(
             bar.finish_and_clear();
         }
         all_confirmed &= s.rows.iter().all(|r| r.rtl_confirmed != Some(false));
-        print_scene(&mut stdout, s, config.clock_mhz)?;
+        print_scene(
+            &mut stdout,
+            s,
+            config.clock_mhz,
+            options.as_ref().map(|o| o.processor),
+        )?;
         let svg = out.join(format!("chart-{}.svg", file_stem(&s.name)));
         let png = svg.with_extension("png");
         chart::write(s, &svg, &png)?;
@@ -204,7 +216,12 @@ pub fn finish(
     let csv = out.join("sweep.csv");
     let json = out.join("sweep.json");
     sweep::write_csv(&csv, &rows)?;
-    sweep::write_json(&json, &sweeps, config.clock_hz())?;
+    sweep::write_json(
+        &json,
+        &sweeps,
+        config.clock_hz(),
+        options.as_ref().map(|o| o.processor),
+    )?;
     writeln!(stdout, "wrote {} and {}", csv.display(), json.display())?;
     if !all_confirmed {
         writeln!(
@@ -223,8 +240,13 @@ fn file_stem(name: &str) -> String {
 }
 
 /// The scene's front and its thesis configuration, as a table, with
-/// frames/s at `clock_mhz`.
-fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64) -> Result<()> {
+/// frames/s at `clock_mhz`, the front confirmed on `rtl` (if any).
+fn print_scene(
+    out: &mut impl Write,
+    s: &SceneSweep,
+    clock_mhz: f64,
+    rtl: Option<ProcessorKind>,
+) -> Result<()> {
     let (w, h) = (s.scene.camera.width, s.scene.camera.height);
     writeln!(
         out,
@@ -239,6 +261,13 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64) -> Result<(
         "frames/s: one pixel processor at {clock_mhz} MHz, {}",
         sweep::clock_source(clock_mhz)
     )?;
+    if let Some(p) = rtl {
+        writeln!(
+            out,
+            "RTL: the front co-simulated on the {p} processor ({})",
+            p.rtl()
+        )?;
+    }
     writeln!(
         out,
         "| depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",

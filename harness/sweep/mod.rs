@@ -29,6 +29,7 @@ pub mod run;
 
 use crate::compare::CompareReport;
 use crate::cosim::{self, CosimError, CosimOptions};
+use crate::processor::ProcessorKind;
 use golden::diffmap::DiffMap;
 use golden::fp::Method;
 use golden::frame::Frame;
@@ -571,6 +572,8 @@ pub fn pareto_front(rows: &[Row]) -> Vec<bool> {
 /// How the front is checked on the RTL.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ConfirmOptions {
+    /// The processor that confirms the front.
+    pub processor: ProcessorKind,
     /// Random pixels co-simulated besides those that differ from the full
     /// configuration's frame.
     pub sample: u64,
@@ -638,13 +641,12 @@ pub fn confirm(
     for (i, scene, pixels, differing) in plans {
         let row = &mut sweep.rows[i];
         let report =
-            cosim::run_pixels(&scene, &pixels, &options.cosim, progress).map_err(|source| {
-                SweepError::Cosim {
+            cosim::run_pixels(&scene, &pixels, options.processor, &options.cosim, progress)
+                .map_err(|source| SweepError::Cosim {
                     scene: sweep.name.clone(),
                     config: row.config().label(),
                     source: Box::new(source),
-                }
-            })?;
+                })?;
         row.differs_from_full = Some(differing);
         row.rtl_pixels = Some(report.counts.pixels);
         row.rtl_confirmed = Some(report.passed());
@@ -678,6 +680,8 @@ struct Document<'a> {
     /// The clock of every row's `fps_at_clock_mhz`, and where it comes from.
     clock_mhz: f64,
     clock_source: &'static str,
+    /// The processor the front was co-simulated on (none without the RTL).
+    rtl_processor: Option<ProcessorKind>,
     reference_depth: u32,
     visible_threshold: f64,
     scenes: Vec<SceneDocument<'a>>,
@@ -698,10 +702,16 @@ struct SkippedDocument {
 }
 
 /// Writes the sweeps as JSON to `path`.
-pub fn write_json(path: &Path, sweeps: &[SceneSweep], clock_hz: f64) -> Result<(), SweepError> {
+pub fn write_json(
+    path: &Path,
+    sweeps: &[SceneSweep],
+    clock_hz: f64,
+    rtl_processor: Option<ProcessorKind>,
+) -> Result<(), SweepError> {
     let doc = Document {
         clock_mhz: clock_hz / 1e6,
         clock_source: clock_source(clock_hz / 1e6),
+        rtl_processor,
         reference_depth: MAX_DEPTH,
         visible_threshold: VISIBLE,
         scenes: sweeps

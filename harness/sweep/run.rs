@@ -22,6 +22,7 @@ use super::{
     SweepError,
 };
 use crate::cosim::CosimOptions;
+use crate::processor::ProcessorKind;
 use crate::shard::Shard;
 use golden::scene::Scene;
 use rayon::prelude::*;
@@ -54,6 +55,10 @@ pub struct RunConfig {
     /// `STATE:XOR`, as `--fault` takes it.
     pub fault: Option<String>,
     pub timeout_cycles: u64,
+    /// The processor the front is confirmed on (shard files written before
+    /// the fast processor existed: the compact one).
+    #[serde(default)]
+    pub processor: ProcessorKind,
     /// The Verilator that built the RTL the front is confirmed on.
     pub verilator: String,
 }
@@ -109,6 +114,7 @@ impl RunConfig {
             .transpose()
             .map_err(|e| format!("fault: {e}"))?;
         Ok(Some(ConfirmOptions {
+            processor: self.processor,
             sample: self.sample,
             seed: self.seed,
             cosim: CosimOptions {
