@@ -28,7 +28,10 @@
 //! about four pixel processors of g++ time. A top of fast processors
 //! (`FAST = 1`) is `Vtop_fast_<N>_<recip>_<sqrt>`, listed in
 //! `rtcosim_fast_top_models.h`: N = 2 exact by default, more with
-//! `RTCOSIM_TOPS=fast:N`.
+//! `RTCOSIM_TOPS=fast:N`. The fast processor (`rtl/fast/fast_pp.v`) is
+//! `Vfast_pp_<recip>_<sqrt>` for every pair, and once more with
+//! `--trace-fst` as `Vfast_pp_wave_<recip>_<sqrt>` (-O0, for the waveform
+//! window; `rtcosim_fast_pp_wave_models.h`).
 //!
 //! With the cargo feature `coverage`, each pair is verilated once more with
 //! Verilator's line, toggle and user coverage and `-DPP_COVER` (the
@@ -128,6 +131,12 @@ const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[
     ("fast", "exact", true),
     ("fast", "fast", true),
 ];
+
+/// The fast processor's variants verilated with `--trace-fst` for the
+/// waveform window (`harness::wave`): every method pair, as the compact
+/// processor's, so that `--wave` re-runs any scene on the variant it
+/// diverged on.
+const FAST_PP_WAVE_VARIANTS: &[(&str, &str, bool)] = FAST_PP_VARIANTS;
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the
 /// tests and the README use. [`TOPS`] adds others on demand.
@@ -614,12 +623,37 @@ fn run() -> Result<(), String> {
     // decoder), for harness::fast_alu: FAST_ALU_VARIANTS; and the fast
     // processor (rtl/fast/fast_pp.v) with its trace port, for
     // harness::top's fast flavour: FAST_PP_VARIANTS.
+    // The fast processor once more with --trace-fst (FAST_PP_WAVE_VARIANTS),
+    // for the waveform window (harness::wave), compiled at -O0 like the
+    // compact processor's.
     let fast_includes = vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()];
-    for (top, table, defines, what) in [
-        ("fast_alu", FAST_ALU_VARIANTS, vec![], "ALU"),
-        ("fast_pp", FAST_PP_VARIANTS, vec!["PP_TRACE"], "processor"),
+    for (top, name, table, defines, what, flavour) in [
+        (
+            "fast_alu",
+            "fast_alu",
+            FAST_ALU_VARIANTS,
+            vec![],
+            "ALU",
+            Flavour::Plain,
+        ),
+        (
+            "fast_pp",
+            "fast_pp",
+            FAST_PP_VARIANTS,
+            vec!["PP_TRACE"],
+            "processor",
+            Flavour::Plain,
+        ),
+        (
+            "fast_pp",
+            "fast_pp_wave",
+            FAST_PP_WAVE_VARIANTS,
+            vec!["PP_TRACE"],
+            "processor (--trace-fst)",
+            Flavour::Wave,
+        ),
     ] {
-        let variants = fast_variants(&methods, top, table)?;
+        let variants = fast_variants(&methods, name, table)?;
         models.extend(
             variants
                 .iter()
@@ -634,15 +668,15 @@ fn run() -> Result<(), String> {
                     defines: defines.clone(),
                     includes: fast_includes.clone(),
                     sources: &fast_sources,
-                    flavour: Flavour::Plain,
+                    flavour,
                 }),
         );
         write_models(
-            &out.join(format!("rtcosim_{top}_models.h")),
+            &out.join(format!("rtcosim_{name}_models.h")),
             &format!(
                 "the verilated fast {what} variants: X(class, recip code, sqrt code, exposure)"
             ),
-            &format!("RTCOSIM_{}_MODELS", top.to_uppercase()),
+            &format!("RTCOSIM_{}_MODELS", name.to_uppercase()),
             &variants
                 .iter()
                 .map(|(prefix, recip, sqrt, exposure)| {

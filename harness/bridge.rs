@@ -304,6 +304,10 @@ pub(crate) mod ffi {
             exposure: bool,
         ) -> Result<UniquePtr<TopSim>>;
 
+        /// The same, verilated with `--trace-fst` (exposure on), for the
+        /// waveform window; fails if that variant was not built.
+        fn new_fast_wave_top(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<TopSim>>;
+
         /// Builds and resets the top of `procs` fast processors (rtl/top.v
         /// with FAST = 1) with these method codes, as a top whose
         /// processors are its processors' contexts (processor * 32 +
@@ -362,6 +366,21 @@ pub(crate) mod ffi {
         /// A top of fast processors: processors per result group
         /// (`ARB_GROUP`); 1 for the others.
         fn arb_group(self: &TopSim) -> u32;
+
+        /// On a `new_fast_wave_top` model (others fail), once: dumps the
+        /// cycles `first..=last` of the next frame (counted from 0, the
+        /// cycle whose rising edge takes its first coordinate) into the FST
+        /// file `path`.
+        fn open_wave(self: Pin<&mut TopSim>, path: &str, first: u64, last: u64) -> Result<()>;
+
+        /// Finishes and closes the FST file, if one is open.
+        fn close_wave(self: Pin<&mut TopSim>) -> Result<()>;
+
+        /// On a `new_fast_wave_top` model: pixel (x, y) of the last frame,
+        /// its take's cycle, its done turn's cycle, then each of its trace
+        /// events' cycles (frame cycles as `open_wave`'s); nothing for a
+        /// pixel the frame did not run, or on other models.
+        fn wave_cycles(self: &TopSim, x: u16, y: u16, out: &mut Vec<u64>);
 
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a

@@ -548,6 +548,12 @@ pub fn run_top_on(
     Ok(top_report(scene, window, options, top, done))
 }
 
+/// The seed of the stalls a tile of [`run_top`] is run with (`--stall`):
+/// its first pixel's row, + 1.
+pub fn backpressure_seed(coords: &[(u32, u32)]) -> u64 {
+    coords.first().map_or(1, |&(_, y)| u64::from(y) + 1)
+}
+
 /// What one tile cost and found.
 struct TileRun {
     compare: CompareReport,
@@ -573,8 +579,7 @@ fn run_tile(
     each: &mut dyn FnMut(&PixelVerdict),
 ) -> Result<TileRun, PpError> {
     let fast = top.processor == ProcessorKind::Fast;
-    // The stalls' seed: the tile's first row, + 1.
-    let seed = coords.first().map_or(1, |&(_, y)| u64::from(y) + 1);
+    let seed = backpressure_seed(coords);
     let start = |t: &mut Top| -> Result<(), PpError> {
         t.load_scene(scene)?;
         t.set_backpressure(seed, top.stall_percent);

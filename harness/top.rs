@@ -149,12 +149,8 @@ impl Top {
     /// Builds and resets the top verilated with `procs` processors,
     /// `RECIP_METHOD = recip` and `SQRT_METHOD = sqrt`.
     pub fn new(procs: u32, recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let inner = ffi::new_top(procs, recip.code(), sqrt.code()).map_err(|e| PpError::Build {
-            recip,
-            sqrt,
-            message: e.what().to_string(),
-        })?;
-        Ok(Top::around(inner, SlotLayout::Compact, procs, recip, sqrt))
+        let built = ffi::new_top(procs, recip.code(), sqrt.code());
+        Top::around(built, SlotLayout::Compact, procs, recip, sqrt)
     }
 
     /// Builds and resets the fast processor (`rtl/fast/fast_pp.v`) with
@@ -164,19 +160,46 @@ impl Top {
     /// (`golden::micro::barrel`), from the turn that took it to its done
     /// turn.
     pub fn new_fast(recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let inner =
-            ffi::new_fast_top(recip.code(), sqrt.code(), true).map_err(|e| PpError::Build {
-                recip,
-                sqrt,
-                message: e.what().to_string(),
-            })?;
-        Ok(Top::around(
-            inner,
-            SlotLayout::FastContexts,
-            FAST_CONTEXTS,
-            recip,
-            sqrt,
-        ))
+        let built = ffi::new_fast_top(recip.code(), sqrt.code(), true);
+        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
+    }
+
+    /// [`Top::new_fast`] on the variant verilated with `--trace-fst`, for
+    /// the waveform window ([`crate::wave`]).
+    pub(crate) fn new_fast_wave(recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        let built = ffi::new_fast_wave_top(recip.code(), sqrt.code());
+        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
+    }
+
+    /// On a [`Top::new_fast_wave`] model, once: dumps the cycles
+    /// `first..=last` of the next frame (counted from 0, the cycle whose
+    /// rising edge takes its first coordinate) into the FST file `path`.
+    pub(crate) fn open_wave(&mut self, path: &str, first: u64, last: u64) -> Result<(), String> {
+        self.inner
+            .pin_mut()
+            .open_wave(path, first, last)
+            .map_err(|e| e.what().to_string())
+    }
+
+    /// Finishes and closes the FST file, if one is open.
+    pub(crate) fn close_wave(&mut self) -> Result<(), String> {
+        self.inner
+            .pin_mut()
+            .close_wave()
+            .map_err(|e| e.what().to_string())
+    }
+
+    /// On a [`Top::new_fast_wave`] model: pixel (x, y) of the last frame,
+    /// the cycles (as [`Top::open_wave`] counts them) of its take, of its
+    /// done turn, and of each of its trace events; `None` for a pixel the
+    /// frame did not run.
+    pub(crate) fn wave_cycles(&self, x: u32, y: u32) -> Option<(u64, u64, Vec<u64>)> {
+        let mut out = Vec::new();
+        self.inner.wave_cycles(x as u16, y as u16, &mut out);
+        match out.as_slice() {
+            [taken, done, events @ ..] => Some((*taken, *done, events.to_vec())),
+            _ => None,
+        }
     }
 
     /// Builds and resets the top of `procs` fast processors (`rtl/top.v`
@@ -186,29 +209,25 @@ impl Top {
     /// [`FAST_CONTEXTS`] + c: a pixel's cycles are the top's rule's
     /// (`golden::micro::barrel::run_top`).
     pub fn new_fast_procs(procs: u32, recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let inner = ffi::new_fast_procs_top(procs, recip.code(), sqrt.code()).map_err(|e| {
-            PpError::Build {
-                recip,
-                sqrt,
-                message: e.what().to_string(),
-            }
-        })?;
-        Ok(Top::around(
-            inner,
-            SlotLayout::FastProcessors,
-            procs * FAST_CONTEXTS,
-            recip,
-            sqrt,
-        ))
+        let built = ffi::new_fast_procs_top(procs, recip.code(), sqrt.code());
+        let slots = procs * FAST_CONTEXTS;
+        Top::around(built, SlotLayout::FastProcessors, slots, recip, sqrt)
     }
 
+    /// The model `built` (or why it could not be: a variant not verilated),
+    /// reset, with `procs` slots laid out as `layout`.
     fn around(
-        inner: UniquePtr<ffi::TopSim>,
+        built: Result<UniquePtr<ffi::TopSim>, cxx::Exception>,
         layout: SlotLayout,
         procs: u32,
         recip: Method,
         sqrt: Method,
-    ) -> Top {
+    ) -> Result<Top, PpError> {
+        let inner = built.map_err(|e| PpError::Build {
+            recip,
+            sqrt,
+            message: e.what().to_string(),
+        })?;
         let mut top = Top {
             procs,
             layout,
@@ -223,7 +242,7 @@ impl Top {
             given: vec![0; procs as usize],
         };
         top.set_timeout_cycles(DEFAULT_TIMEOUT_CYCLES);
-        top
+        Ok(top)
     }
 
     /// The number of pixel processors.

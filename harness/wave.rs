@@ -20,6 +20,21 @@
 //!
 //! Open them with `gtkwave wave.fst wave.gtkw`.
 //!
+//! # The fast processor
+//!
+//! A fast processor's pixel shares its cycles with 31 other contexts, so the
+//! re-run is its tile ([`Replay::Fast`]): the fast processor verilated with
+//! `--trace-fst` (`Vfast_pp_wave_<recip>_<sqrt>`) is fed the tile's
+//! coordinates as `cosim --processor fast` fed them (with the same
+//! backpressure), twice, from reset; the window is of the tile's frame,
+//! its cycles counted from the one that takes the first coordinate, around
+//! the divergent event's cycle, clamped to the pixel's life (its take to its
+//! done turn). The save file shows the streams, the controller's turn
+//! (context, take, issue, done, the issuing state and opcode), the trace
+//! and fault ports and the colour (`TOP.fast_pp`). A run through a top of
+//! fast processors (`--procs`) is re-run the same way on one processor: the
+//! pixel's events are the same, its cycles those of one processor.
+//!
 //! # The time axis
 //!
 //! Cycle `c` of the pixel begins with its rising edge at `c` ns (1000 ps,
@@ -31,10 +46,14 @@
 //! `first` ns to `last + 1` ns.
 
 use crate::compare::Divergence;
+use crate::cosim;
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
+use crate::processor::ProcessorKind;
+use crate::top::{Source, Top};
 use golden::micro::isa::{self, dim};
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
+use golden::window::Window;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -46,6 +65,49 @@ pub const PS_PER_CYCLE: u64 = 1000;
 
 /// The hierarchy of the pixel processor in the FST file.
 pub const TOP_SCOPE: &str = "TOP.pixel_processor";
+/// The hierarchy of the fast processor in the FST file.
+pub const FAST_SCOPE: &str = "TOP.fast_pp";
+
+/// How the run that diverged drove the RTL, so that the re-run drives it
+/// the same way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Replay {
+    /// The compact processor, one pixel from reset.
+    Compact,
+    /// The fast processor fed `tile`'s coordinates row by row from reset,
+    /// `out_ready` low in `stall_percent` % of the cycles as
+    /// [`cosim::run_top`] drew them for the tile.
+    Fast { tile: Window, stall_percent: u32 },
+}
+
+impl Replay {
+    /// The re-run of pixel row `y` of a run of `window` on `processor`
+    /// (with `stall_percent`): for the fast processor, the tile of
+    /// [`cosim::tiles`] that holds the row.
+    pub fn of(processor: ProcessorKind, window: Window, stall_percent: u32, y: u32) -> Replay {
+        match processor {
+            ProcessorKind::Compact => Replay::Compact,
+            ProcessorKind::Fast => {
+                let tile = cosim::tiles(window)
+                    .into_iter()
+                    .find(|t| (t.y..t.y + t.height).contains(&y))
+                    .unwrap_or(window);
+                Replay::Fast {
+                    tile,
+                    stall_percent,
+                }
+            }
+        }
+    }
+
+    /// The processor it runs on.
+    pub fn processor(&self) -> ProcessorKind {
+        match self {
+            Replay::Compact => ProcessorKind::Compact,
+            Replay::Fast { .. } => ProcessorKind::Fast,
+        }
+    }
+}
 
 /// What [`write_window`] wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -53,6 +115,8 @@ pub struct WaveWindow {
     /// The pixel re-run.
     pub x: u32,
     pub y: u32,
+    /// How (the fast processor: in which tile).
+    pub replay: Replay,
     /// The cycle of the divergence: the one in which the RTL's divergent
     /// event was sampled (the rising edge at `divergence_cycle + 1` ns
     /// writes it), or the pixel's last cycle.
@@ -60,11 +124,12 @@ pub struct WaveWindow {
     /// Why that cycle ([`DivergenceAt`]).
     pub at: DivergenceAt,
     /// The first and last cycle dumped: `divergence_cycle` ± K, clamped to
-    /// the pixel (cycle 0, the start cycle, to its done cycle).
+    /// the pixel (cycle 0, the start cycle, to its done cycle; the fast
+    /// processor: the tile's frame cycles of its take to its done turn).
     pub first_cycle: u64,
     pub last_cycle: u64,
-    /// The pixel's outcome on the traced model (its `cycles` is the done
-    /// cycle).
+    /// The pixel's outcome on the traced model (the compact processor: its
+    /// `cycles` is the done cycle).
     pub outcome: PixelOutcome,
     /// The files written.
     pub fst: PathBuf,
@@ -161,8 +226,9 @@ pub fn write_divergence(
     d: &Divergence,
     k: u64,
     path: &Path,
+    replay: Replay,
 ) -> Result<WaveWindow, WaveError> {
-    write_window(scene, fault, d.x, d.y, d.seq(), k, path)
+    write_window(scene, fault, d.x, d.y, d.seq(), k, path, replay)
 }
 
 /// [`write_divergence`] into the directory `dir` (a run's output
@@ -173,20 +239,23 @@ pub fn write_window_in(
     fault: Option<Fault>,
     d: &Divergence,
     k: u64,
+    replay: Replay,
 ) -> Result<WaveWindow, WaveError> {
-    write_divergence(scene, fault, d, k, &dir.join(FST_NAME))
+    write_divergence(scene, fault, d, k, &dir.join(FST_NAME), replay)
 }
 
 /// Re-runs pixel (x, y) of `scene` (with `fault` injected, as the run that
-/// diverged had it) on the traced pixel processor of the scene's method
-/// pair, and writes the cycles `d - k ..= d + k` around the divergence cycle
-/// `d` (clamped to the pixel) to the FST file `path`, with the translate
-/// filter and the GTKWave save file beside it ([`companion_paths`]).
+/// diverged had it) on the traced processor of the scene's method pair, as
+/// `replay` says, and writes the cycles `d - k ..= d + k` around the
+/// divergence cycle `d` (clamped to the pixel) to the FST file `path`, with
+/// the translate filter and the GTKWave save file beside it
+/// ([`companion_paths`]).
 ///
 /// `divergence_seq` is the sequence number of the divergent event
 /// ([`Divergence::seq`]): `d` is the cycle in which the RTL's event with that
 /// number was sampled, or the pixel's last cycle when the RTL wrote fewer
 /// events or no event is named (a divergence of colour or cycle count).
+#[allow(clippy::too_many_arguments)]
 pub fn write_window(
     scene: &Scene,
     fault: Option<Fault>,
@@ -195,6 +264,7 @@ pub fn write_window(
     divergence_seq: Option<u32>,
     k: u64,
     path: &Path,
+    replay: Replay,
 ) -> Result<WaveWindow, WaveError> {
     if path.file_name().is_none() || path.is_dir() {
         return Err(WaveError::NotAFile {
@@ -210,7 +280,85 @@ pub fn write_window(
     std::fs::File::create(path).map_err(io(path))?;
     let fst = std::path::absolute(path).map_err(io(path))?;
     let (filter, gtkw) = companion_paths(&fst);
+    let (divergence_cycle, at, first_cycle, last_cycle, outcome, states) = match replay {
+        Replay::Compact => compact_window(scene, fault, x, y, divergence_seq, k, &fst)?,
+        Replay::Fast {
+            tile,
+            stall_percent,
+        } => fast_window(
+            scene,
+            fault,
+            x,
+            y,
+            divergence_seq,
+            k,
+            &fst,
+            tile,
+            stall_percent,
+        )?,
+    };
+    let at = match at {
+        DivergenceAt::Event { seq, .. } => DivergenceAt::Event {
+            seq,
+            state: states[seq as usize],
+        },
+        other => other,
+    };
+    let window = WaveWindow {
+        x,
+        y,
+        replay,
+        divergence_cycle,
+        at,
+        first_cycle,
+        last_cycle,
+        outcome,
+        fst,
+        filter,
+        gtkw,
+    };
+    std::fs::write(&window.filter, state_filter()).map_err(io(&window.filter))?;
+    std::fs::write(&window.gtkw, save_file(&window)).map_err(io(&window.gtkw))?;
+    Ok(window)
+}
 
+/// What a re-run found: the divergence cycle and why, the window's first
+/// and last cycle, the pixel's outcome, and the state of each of its events.
+type Rerun = (u64, DivergenceAt, u64, u64, PixelOutcome, Vec<u16>);
+
+/// The divergence cycle of a pixel whose events came in `cycles` and whose
+/// last cycle is `last`.
+fn divergence_at(
+    divergence_seq: Option<u32>,
+    cycles: &[u64],
+    events: u64,
+    last: u64,
+) -> (u64, DivergenceAt) {
+    match divergence_seq {
+        Some(seq) => match cycles.get(seq as usize) {
+            Some(&c) => (c, DivergenceAt::Event { seq, state: 0 }),
+            None => (
+                last,
+                DivergenceAt::MissingEvent {
+                    seq,
+                    rtl_events: events,
+                },
+            ),
+        },
+        None => (last, DivergenceAt::LastCycle),
+    }
+}
+
+/// [`write_window`] on the compact processor.
+fn compact_window(
+    scene: &Scene,
+    fault: Option<Fault>,
+    x: u32,
+    y: u32,
+    divergence_seq: Option<u32>,
+    k: u64,
+    fst: &Path,
+) -> Result<Rerun, WaveError> {
     // Pass 1: the cycle of every RTL event of the pixel.
     let mut rtl = traced(scene, fault)?;
     let outcome = rtl.run_pixel(x, y, None)?;
@@ -218,19 +366,8 @@ pub fn write_window(
     rtl.model().event_cycles(&mut cycles);
     drop(rtl);
     let last_cycle_of_pixel = outcome.cycles;
-    let (divergence_cycle, at) = match divergence_seq {
-        Some(seq) => match cycles.get(seq as usize) {
-            Some(&c) => (c, DivergenceAt::Event { seq, state: 0 }),
-            None => (
-                last_cycle_of_pixel,
-                DivergenceAt::MissingEvent {
-                    seq,
-                    rtl_events: outcome.events,
-                },
-            ),
-        },
-        None => (last_cycle_of_pixel, DivergenceAt::LastCycle),
-    };
+    let (divergence_cycle, at) =
+        divergence_at(divergence_seq, &cycles, outcome.events, last_cycle_of_pixel);
     let first_cycle = divergence_cycle.saturating_sub(k);
     let last_cycle = divergence_cycle.saturating_add(k).min(last_cycle_of_pixel);
 
@@ -249,38 +386,92 @@ pub fn write_window(
     rtl.model().close_wave().map_err(fst_error)?;
     let again = again?;
     if again != outcome {
-        return Err(WaveError::Fst {
-            x,
-            y,
-            message: format!(
-                "the re-run differs from the first run ({again:?} vs {outcome:?}): \
-                 the RTL does not repeat itself from reset"
-            ),
-        });
+        return Err(not_repeated(x, y, format!("{again:?} vs {outcome:?}")));
     }
-    let at = match at {
-        DivergenceAt::Event { seq, .. } => DivergenceAt::Event {
-            seq,
-            state: events[seq as usize].state,
-        },
-        other => other,
-    };
-
-    let window = WaveWindow {
-        x,
-        y,
+    let states = events.iter().map(|e| e.state).collect();
+    Ok((
         divergence_cycle,
         at,
         first_cycle,
         last_cycle,
         outcome,
-        fst,
-        filter,
-        gtkw,
+        states,
+    ))
+}
+
+/// The error of a re-run that did not repeat the first.
+fn not_repeated(x: u32, y: u32, what: String) -> WaveError {
+    WaveError::Fst {
+        x,
+        y,
+        message: format!(
+            "the re-run differs from the first run ({what}): the RTL does not repeat itself from reset"
+        ),
+    }
+}
+
+/// [`write_window`] on the fast processor: `tile` fed twice from reset.
+#[allow(clippy::too_many_arguments)]
+fn fast_window(
+    scene: &Scene,
+    fault: Option<Fault>,
+    x: u32,
+    y: u32,
+    divergence_seq: Option<u32>,
+    k: u64,
+    fst: &Path,
+    tile: Window,
+    stall_percent: u32,
+) -> Result<Rerun, WaveError> {
+    let coords: Vec<(u32, u32)> = tile.iter().collect();
+    let fst_error = |message: String| WaveError::Fst { x, y, message };
+    // One run of the tile on a fresh traced model: the pixel's outcome,
+    // its events' states, and its cycles (take, done turn, events).
+    let run = |window: Option<(u64, u64)>| -> Result<_, WaveError> {
+        let mut rtl = Top::new_fast_wave(scene.render.recip, scene.render.sqrt)?;
+        rtl.set_fault(fault, u32::MAX);
+        rtl.load_scene(scene)?;
+        rtl.set_backpressure(cosim::backpressure_seed(&coords), stall_percent);
+        if let Some((first, last)) = window {
+            rtl.open_wave(&fst.to_string_lossy(), first, last)
+                .map_err(fst_error)?;
+        }
+        let mut pixel = None;
+        let ran = rtl.run_frame(Source::Stream(&coords), &mut |p| {
+            if (p.x, p.y) == (x, y) {
+                pixel = Some((
+                    p.outcome,
+                    p.events.iter().map(|e| e.state).collect::<Vec<_>>(),
+                ));
+            }
+        });
+        rtl.close_wave().map_err(fst_error)?;
+        ran?;
+        let (outcome, states) = pixel
+            .ok_or_else(|| fst_error(format!("the pixel is not in the re-run tile {tile}")))?;
+        let cycles = rtl
+            .wave_cycles(x, y)
+            .ok_or_else(|| fst_error("the traced model kept no cycles of the pixel".into()))?;
+        Ok((outcome, states, cycles))
     };
-    std::fs::write(&window.filter, state_filter()).map_err(io(&window.filter))?;
-    std::fs::write(&window.gtkw, save_file(&window)).map_err(io(&window.gtkw))?;
-    Ok(window)
+    // Pass 1: the cycle of every event of the pixel.
+    let (outcome, states, (taken, done, cycles)) = run(None)?;
+    let (divergence_cycle, at) = divergence_at(divergence_seq, &cycles, outcome.events, done);
+    let first_cycle = divergence_cycle.saturating_sub(k).max(taken);
+    let last_cycle = divergence_cycle.saturating_add(k).min(done);
+    // Pass 2: the same tile from reset, with the FST open for the window.
+    let again = run(Some((first_cycle, last_cycle)))?;
+    if again != (outcome, states.clone(), (taken, done, cycles)) {
+        return Err(not_repeated(x, y, format!("{:?} vs {outcome:?}", again.0)));
+    }
+    Ok((
+        divergence_cycle,
+        at,
+        first_cycle,
+        last_cycle,
+        outcome,
+        states,
+    ))
 }
 
 /// A fresh traced model of the scene's method pair with the scene loaded.
@@ -327,14 +518,19 @@ const TR_BIN: u32 = 0x8;
 const TR_RJUSTIFY: u32 = 0x20;
 const TR_FTRANSLATED: u32 = 0x2000;
 
-/// The signals the save file shows, grouped under comments (`None`).
-fn traces() -> Vec<Option<(&'static str, Trace)>> {
+/// The signals the save file shows for `processor`, grouped under comments
+/// (`None`).
+fn traces(processor: ProcessorKind) -> Vec<Option<(&'static str, Trace)>> {
+    let scope = match processor {
+        ProcessorKind::Compact => TOP_SCOPE,
+        ProcessorKind::Fast => FAST_SCOPE,
+    };
     let sig = |name: &str, bits: usize, flags: u32| Trace {
         flags: flags | TR_RJUSTIFY,
         name: if bits == 1 {
-            format!("{TOP_SCOPE}.{name}")
+            format!("{scope}.{name}")
         } else {
-            format!("{TOP_SCOPE}.{name}[{}:0]", bits - 1)
+            format!("{scope}.{name}[{}:0]", bits - 1)
         },
         filter: false,
     };
@@ -346,54 +542,92 @@ fn traces() -> Vec<Option<(&'static str, Trace)>> {
     let sp_bits = (isa::dim::STK_COUNT as u32)
         .next_power_of_two()
         .trailing_zeros() as usize;
+    // fast_pp's CTX_BITS: 32 contexts.
+    let ctx_bits = crate::top::FAST_CONTEXTS.trailing_zeros() as usize;
     let group = |title: &'static str, traces: Vec<Trace>| {
         std::iter::once(None).chain(traces.into_iter().map(move |t| Some((title, t))))
     };
-    group(
-        "pixel",
-        vec![
-            sig("clk", 1, TR_BIN),
-            sig("start", 1, TR_BIN),
-            sig("ready", 1, TR_BIN),
-            sig("done", 1, TR_BIN),
-            sig("px", dim::COORD_BITS, TR_DEC),
-            sig("py", dim::COORD_BITS, TR_DEC),
-        ],
-    )
-    .chain(group(
-        "controller",
-        vec![
-            state("u_ctrl.st_q"),
-            sig("op", dim::OP_BITS, TR_HEX),
-            sig("u_ctrl.sp_q", sp_bits, TR_DEC),
-        ],
-    ))
-    .chain(group(
-        "trace port",
-        vec![
-            sig("trace_valid", 1, TR_BIN),
+    let trace_port = |ctx: Option<Trace>| {
+        let mut v = vec![sig("trace_valid", 1, TR_BIN)];
+        v.extend(ctx);
+        v.extend([
             state("trace_state"),
             sig("trace_dst", dim::REG_BITS, TR_HEX),
             sig("trace_lanes", dim::LANES, TR_BIN),
             sig("trace_value", 32 * dim::LANES, TR_HEX),
-        ],
-    ))
-    .chain(group(
-        "fault port, colour",
-        vec![
-            state("fault_state"),
-            sig("fault_xor", 32, TR_HEX),
-            sig("rgb", 32 * dim::LANES, TR_HEX),
-        ],
-    ))
-    .collect()
+        ]);
+        group("trace port", v)
+    };
+    let fault_port = |rgb: &str| {
+        group(
+            "fault port, colour",
+            vec![
+                state("fault_state"),
+                sig("fault_xor", 32, TR_HEX),
+                sig(rgb, 32 * dim::LANES, TR_HEX),
+            ],
+        )
+    };
+    match processor {
+        ProcessorKind::Compact => group(
+            "pixel",
+            vec![
+                sig("clk", 1, TR_BIN),
+                sig("start", 1, TR_BIN),
+                sig("ready", 1, TR_BIN),
+                sig("done", 1, TR_BIN),
+                sig("px", dim::COORD_BITS, TR_DEC),
+                sig("py", dim::COORD_BITS, TR_DEC),
+            ],
+        )
+        .chain(group(
+            "controller",
+            vec![
+                state("u_ctrl.st_q"),
+                sig("op", dim::OP_BITS, TR_HEX),
+                sig("u_ctrl.sp_q", sp_bits, TR_DEC),
+            ],
+        ))
+        .chain(trace_port(None))
+        .chain(fault_port("rgb"))
+        .collect(),
+        ProcessorKind::Fast => group(
+            "streams",
+            vec![
+                sig("clk", 1, TR_BIN),
+                sig("in_valid", 1, TR_BIN),
+                sig("in_ready", 1, TR_BIN),
+                sig("in_x", dim::COORD_BITS, TR_DEC),
+                sig("in_y", dim::COORD_BITS, TR_DEC),
+                sig("out_valid", 1, TR_BIN),
+                sig("out_ready", 1, TR_BIN),
+                sig("out_x", dim::COORD_BITS, TR_DEC),
+                sig("out_y", dim::COORD_BITS, TR_DEC),
+                sig("out_ctx", ctx_bits, TR_DEC),
+            ],
+        )
+        .chain(group(
+            "controller: the turn",
+            vec![
+                sig("turn_ctx", ctx_bits, TR_DEC),
+                sig("take", 1, TR_BIN),
+                sig("issue", 1, TR_BIN),
+                sig("done", 1, TR_BIN),
+                state("state"),
+                sig("op", dim::OP_BITS, TR_HEX),
+            ],
+        ))
+        .chain(trace_port(Some(sig("trace_ctx", ctx_bits, TR_DEC))))
+        .chain(fault_port("out_rgb"))
+        .collect(),
+    }
 }
 
-/// The names of the signals the save file shows, as GTKWave names them
-/// (`TOP.pixel_processor.u_ctrl.st_q[8:0]`), and whether each goes through
-/// the state filter.
-pub fn shown_signals() -> Vec<(String, bool)> {
-    traces()
+/// The names of the signals the save file shows for `processor`, as
+/// GTKWave names them (`TOP.pixel_processor.u_ctrl.st_q[8:0]`), and whether
+/// each goes through the state filter.
+pub fn shown_signals(processor: ProcessorKind) -> Vec<(String, bool)> {
+    traces(processor)
         .into_iter()
         .flatten()
         .map(|(_, t)| (t.name, t.filter))
@@ -408,9 +642,17 @@ fn save_file(w: &WaveWindow) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "[*] rtcosim cosim --wave (harness/wave.rs): pixel ({}, {}), cycles {}..={}, \
+        "[*] rtcosim cosim --wave (harness/wave.rs): pixel ({}, {}){}, cycles {}..={}, \
          divergence in cycle {}; cycle c begins at c ns",
-        w.x, w.y, w.first_cycle, w.last_cycle, w.divergence_cycle
+        w.x,
+        w.y,
+        match w.replay {
+            Replay::Compact => String::new(),
+            Replay::Fast { tile, .. } => format!(" on the fast processor fed tile {tile}"),
+        },
+        w.first_cycle,
+        w.last_cycle,
+        w.divergence_cycle
     );
     let _ = writeln!(s, "[dumpfile] \"{}\"", w.fst.display());
     let _ = writeln!(s, "[savefile] \"{}\"", w.gtkw.display());
@@ -429,7 +671,7 @@ fn save_file(w: &WaveWindow) -> String {
     let mut flags = None;
     let mut filter_declared = false;
     let mut title = "";
-    for entry in traces() {
+    for entry in traces(w.replay.processor()) {
         let Some((group, t)) = entry else { continue };
         if group != title {
             title = group;

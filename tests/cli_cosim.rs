@@ -734,7 +734,7 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         both(&out)
     );
 
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 4] = [
         (
             &["--processor", "fastest"],
             "invalid value 'fastest' for '--processor <PROCESSOR>'",
@@ -746,10 +746,6 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         (
             &["--processor", "fast", "--procs", "65"],
             "invalid value '65' for '--procs <N>'",
-        ),
-        (
-            &["--processor", "fast", "--wave", "5"],
-            "the fast processor has no FST model yet",
         ),
         (
             &["--processor", "fast", "--coverage", "cov"],

@@ -14,9 +14,10 @@ use golden::micro::isa;
 use golden::scene::Scene;
 use golden::window::Window;
 use rtcosim::compare::Divergence;
-use rtcosim::cosim::{self, CosimOptions};
+use rtcosim::cosim::{self, CosimOptions, TopOptions};
 use rtcosim::pixel_proc::Fault;
-use rtcosim::wave::{self, WaveError};
+use rtcosim::processor::ProcessorKind;
+use rtcosim::wave::{self, Replay, WaveError};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -63,6 +64,8 @@ fn pri_half() -> (Scene, Fault, Divergence) {
 /// (`TOP.pixel_processor.u_ctrl.st_q[8:0]`, as GTKWave names them) with
 /// their widths, and every value change.
 struct Fst {
+    /// The scope `signal` looks in: `TOP.pixel_processor` or `TOP.fast_pp`.
+    scope: &'static str,
     start: u64,
     end: u64,
     timescale_exponent: i8,
@@ -112,6 +115,7 @@ impl Fst {
             })
             .expect("FST value changes");
         Fst {
+            scope: "TOP.pixel_processor",
             start: header.start_time,
             end: header.end_time,
             timescale_exponent: header.timescale_exponent,
@@ -120,9 +124,17 @@ impl Fst {
         }
     }
 
-    /// The signal named `name` (without its range) under TOP.pixel_processor.
+    /// The same file, its signals looked up under the fast processor's scope.
+    fn of_fast(self) -> Fst {
+        Fst {
+            scope: "TOP.fast_pp",
+            ..self
+        }
+    }
+
+    /// The signal named `name` (without its range) under the scope.
     fn signal(&self, name: &str) -> (usize, u32) {
-        let prefix = format!("TOP.pixel_processor.{name}");
+        let prefix = format!("{}.{name}", self.scope);
         let found: Vec<_> = self
             .signals
             .iter()
@@ -182,8 +194,15 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
     // K larger than the divergence cycle: the window starts at the start
     // cycle, so every event of the pixel before the divergent one is in it.
     let k_big = 10_000;
-    let w = wave::write_divergence(&scene, Some(fault), &d, k_big, &dir.join("all.fst"))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let w = wave::write_divergence(
+        &scene,
+        Some(fault),
+        &d,
+        k_big,
+        &dir.join("all.fst"),
+        Replay::Compact,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     assert!(w.fst.is_file() && w.gtkw.is_file() && w.filter.is_file());
     let fst = Fst::read(&w.fst);
     assert_eq!(fst.timescale_exponent, -12, "1 ps time unit");
@@ -221,8 +240,15 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
             cycle > k && cycle + k < done_cycle,
             "the window is not clamped"
         );
-        let w = wave::write_divergence(&scene, Some(fault), &d, k, &dir.join(format!("k{k}.fst")))
-            .unwrap_or_else(|e| panic!("{e}"));
+        let w = wave::write_divergence(
+            &scene,
+            Some(fault),
+            &d,
+            k,
+            &dir.join(format!("k{k}.fst")),
+            Replay::Compact,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
         let fst = Fst::read(&w.fst);
         assert_eq!(
             (fst.start, fst.end),
@@ -240,8 +266,8 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
 fn the_save_file_shows_signals_of_the_fst_and_the_filter_names_states() {
     let (scene, fault, d) = pri_half();
     let dir = scratch("gtkw");
-    let w =
-        wave::write_window_in(&dir, &scene, Some(fault), &d, 20).unwrap_or_else(|e| panic!("{e}"));
+    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 20, Replay::Compact)
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(w.fst, dir.join("wave.fst"));
     let fst = Fst::read(&w.fst);
 
@@ -301,7 +327,8 @@ fn a_bad_path_is_a_clear_error() {
     let (scene, fault, d) = pri_half();
     let dir = scratch("bad-path");
     let missing = dir.join("no-such-dir").join("wave.fst");
-    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &missing).unwrap_err();
+    let e =
+        wave::write_divergence(&scene, Some(fault), &d, 5, &missing, Replay::Compact).unwrap_err();
     assert!(
         matches!(&e, WaveError::Io { path, .. } if *path == missing),
         "{e:?}"
@@ -311,7 +338,7 @@ fn a_bad_path_is_a_clear_error() {
         text.contains(&missing.display().to_string()) && text.contains("No such file"),
         "{text}"
     );
-    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir).unwrap_err();
+    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir, Replay::Compact).unwrap_err();
     assert!(matches!(e, WaveError::NotAFile { .. }), "{e:?}");
     assert!(e.to_string().contains("not a file name"), "{e}");
 }
@@ -336,8 +363,8 @@ fn gtkwave_shows_the_state_names() {
     let fault: Fault = "SH_POINT:0x400".parse().expect("a fault");
     let d = first_divergence(&scene, fault);
     let dir = scratch("gtkwave");
-    let w =
-        wave::write_window_in(&dir, &scene, Some(fault), &d, 3).unwrap_or_else(|e| panic!("{e}"));
+    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 3, Replay::Compact)
+        .unwrap_or_else(|e| panic!("{e}"));
     let st_q = format!(
         "TOP.pixel_processor.u_ctrl.st_q[{}:0]",
         isa::dim::ST_BITS - 1
@@ -581,4 +608,125 @@ fn cosim_wave_refuses_bad_values_with_exit_2() {
         assert_refused(&all, &[&message]);
     }
     assert_eq!(std::fs::read_dir(&dir).expect("listing").count(), 0);
+}
+
+/// The fast processor's window (`Replay::Fast`): the divergent pixel's tile
+/// re-run on the fast processor verilated with --trace-fst, read back with
+/// the FST reader and held to the co-simulation's own account of the pixel
+/// (its RTL events, its cycles in the tile) and to the FST's signals: the
+/// take of the pixel by a context, that context's writes on the trace port
+/// (as many as the RTL wrote, the divergent one in the fault's state with
+/// the faulty value), its done turn. Through the binary, `--wave` writes
+/// it for `--processor fast`.
+#[test]
+fn the_fast_processors_window_is_its_tile_re_run_around_the_divergence() {
+    let scene = small_reference();
+    let fault: Fault = "SH_POINT:0x400".parse().expect("a fault");
+    let window = Window::full(&scene);
+    let options = CosimOptions {
+        fault: Some(fault),
+        ..CosimOptions::default()
+    };
+    let report = cosim::run_top(&scene, window, &options, &TopOptions::fast(), &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    let d = report.compare.first_divergence.expect("the fault diverged");
+    let seq = d.seq().expect("an event diverged");
+    let (rtl_event, _) = d.events();
+    let rtl_event = rtl_event.expect("the RTL's divergent event");
+    let replay = Replay::of(ProcessorKind::Fast, window, 0, d.y);
+    assert!(
+        matches!(replay, Replay::Fast { tile, .. } if tile.y <= d.y && d.y < tile.y + tile.height)
+    );
+    let dir = scratch("fast");
+
+    let w = wave::write_divergence(
+        &scene,
+        Some(fault),
+        &d,
+        1 << 30,
+        &dir.join("all.fst"),
+        replay,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let fst = Fst::read(&w.fst).of_fast();
+    // The whole life of the pixel: from the cycle its context took it to
+    // its done turn, whose cycle count is the co-simulation's for it.
+    let (take, done) = (w.first_cycle, w.last_cycle);
+    assert_eq!((fst.start, fst.end), (take * 1000, (done + 1) * 1000));
+    assert_eq!(done - take, d.a.cycles, "the pixel's cycles in its tile");
+    let sample = |c: u64| c * 1000 + 500;
+    assert_eq!(fst.value_at("take", sample(take)), 1);
+    let ctx = fst.value_at("turn_ctx", sample(take));
+    assert_eq!(fst.value_at("done", sample(done)), 1);
+    assert_eq!(fst.value_at("turn_ctx", sample(done)), ctx);
+    // The context's writes, as the harness samples them.
+    let writes: Vec<u64> = sample_points(&fst)
+        .into_iter()
+        .filter(|&t| fst.value_at("trace_valid", t) == 1 && fst.value_at("trace_ctx", t) == ctx)
+        .collect();
+    assert_eq!(writes.len() as u64, d.a.events, "the RTL's event count");
+    let at = writes[seq as usize];
+    assert_eq!(at, sample(w.divergence_cycle));
+    let st = u64::from(fault.state);
+    assert_eq!(fst.value_at("trace_state", at), st);
+    assert!(writes[..seq as usize]
+        .iter()
+        .all(|&t| fst.value_at("trace_state", t) != st));
+    let value = fst.wide_value_at("trace_value", at);
+    assert_eq!(value as u32, rtl_event.values[0], "lane x, with the fault");
+    assert_eq!(fst.value_at("fault_state", at), st);
+
+    // K = 3: seven cycles around it; the save file names signals of the FST.
+    let w = wave::write_divergence(&scene, Some(fault), &d, 3, &dir.join("k3.fst"), replay)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let c = w.divergence_cycle;
+    let fst = Fst::read(&w.fst).of_fast();
+    assert_eq!((fst.start, fst.end), ((c - 3) * 1000, (c + 4) * 1000));
+    assert_eq!(sample_points(&fst).len(), 7);
+    let gtkw = std::fs::read_to_string(&w.gtkw).expect("save file");
+    let names: Vec<&str> = gtkw.lines().filter(|l| l.starts_with("TOP.")).collect();
+    assert!(names.len() >= 20, "{gtkw}");
+    for name in &names {
+        assert!(fst.signals.contains_key(*name), "{name} is not in the FST");
+    }
+    assert_eq!(
+        names,
+        wave::shown_signals(ProcessorKind::Fast)
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+    );
+
+    // Through the binary: --wave on the fast processor.
+    let out = rtcosim(&[
+        "cosim",
+        "--size",
+        "40x30",
+        "--processor",
+        "fast",
+        "--fault",
+        "SH_POINT:0x400",
+        "--wave",
+        "3",
+        "--wave-out",
+        arg(&dir.join("cli.fst")),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains(&format!(
+            "waveform: pixel ({}, {}) re-run on the traced model of the fast processor, fed tile",
+            d.x, d.y
+        )),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!(
+            "cycles {}..={} around the RTL's event #{seq} (SH_POINT",
+            c - 3,
+            c + 3
+        )),
+        "{stdout}"
+    );
+    assert!(Fst::read(&dir.join("cli.fst")).of_fast().start == (c - 3) * 1000);
 }

@@ -14,6 +14,7 @@ use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::processor::ProcessorKind;
 use rtcosim::top::FAST_CONTEXTS;
+use rtcosim::wave::Replay;
 
 /// The largest top of compact processors build.rs verilates on request.
 const MAX_COMPACT_PROCS: u32 = 8;
@@ -116,12 +117,6 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         anyhow::bail!(
             "--procs {n}: a top of compact processors has at most {MAX_COMPACT_PROCS} (the \
              fast processor's top goes to 64: --processor fast)"
-        );
-    }
-    if fast && args.wave.wave.is_some() {
-        anyhow::bail!(
-            "--wave re-runs pixels on the compact processor's FST model; the fast \
-             processor has no FST model yet: drop it, or use --processor compact"
         );
     }
     if args.stall > 0 && args.procs.is_none() && !fast {
@@ -265,10 +260,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
             )
         })?;
     }
-    if !fast {
-        args.wave
-            .write(&mut out, &scene, &report, args.out.as_deref())?;
-    }
+    args.wave
+        .write(&mut out, &scene, &report, args.out.as_deref(), |y| {
+            Replay::of(args.processor, window, args.stall, y)
+        })?;
     Ok(report.passed())
 }
 

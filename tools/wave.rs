@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use golden::scene::Scene;
 use rtcosim::cosim::CosimReport;
 use rtcosim::pixel_proc::parse_number;
-use rtcosim::wave::{self, DivergenceAt, WaveWindow};
+use rtcosim::wave::{self, DivergenceAt, Replay, WaveWindow};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -54,7 +54,8 @@ impl WaveArgs {
         crate::args::check_parent_dir("--wave-out", path)
     }
 
-    /// With --wave, writes the window of the report's first divergence (to
+    /// With --wave, writes the window of the report's first divergence,
+    /// re-run as `replay` of its row says (to
     /// `dir/wave.fst` when a run directory is given, else to --wave-out)
     /// and says where; without a divergence, says that none was written. A
     /// run directory gets the window of a divergence even without --wave,
@@ -65,6 +66,7 @@ impl WaveArgs {
         scene: &Scene,
         report: &CosimReport,
         dir: Option<&Path>,
+        replay: impl Fn(u32) -> Replay,
     ) -> Result<Option<WaveWindow>> {
         let diverged = report.compare.first_divergence.is_some();
         let default = (dir.is_some() && diverged).then_some(DEFAULT_CYCLES);
@@ -79,7 +81,7 @@ impl WaveArgs {
             Some(dir) => dir.join(wave::FST_NAME),
             None => self.wave_out.clone(),
         };
-        let w = wave::write_divergence(scene, report.fault, d, k, &path)
+        let w = wave::write_divergence(scene, report.fault, d, k, &path, replay(d.y))
             .with_context(|| format!("--wave {k}: pixel ({}, {})", d.x, d.y))?;
         let why = match w.at {
             DivergenceAt::Event { seq, state } => format!(
@@ -95,10 +97,16 @@ impl WaveArgs {
         };
         writeln!(
             out,
-            "\nwaveform: pixel ({}, {}) re-run on the traced model; cycles {}..={} around {why} \
+            "\nwaveform: pixel ({}, {}) re-run on the traced model{}; cycles {}..={} around {why} \
              (cycle c starts at c ns) in {}\n  with {} and {}\n  open it: {}",
             w.x,
             w.y,
+            match w.replay {
+                Replay::Compact => String::new(),
+                Replay::Fast { tile, .. } => format!(
+                    " of the fast processor, fed tile {tile} from reset (cycles from its first take)"
+                ),
+            },
             w.first_cycle,
             w.last_cycle,
             w.fst.display(),

@@ -58,6 +58,18 @@ public:
     // A top of fast processors: processors per result group (ARB_GROUP);
     // 1 for the others.
     virtual std::uint32_t arb_group() const = 0;
+    // Waveforms (pp_wave.h), only on the models new_fast_wave_top builds
+    // (the others throw): open_wave dumps the cycles [first, last] of the
+    // next frame, counted from 0, the frame's first cycle (the one whose
+    // rising edge takes its first coordinate), into the FST file `path`
+    // (once per model); close_wave finishes it.
+    virtual void open_wave(rust::Str path, std::uint64_t first, std::uint64_t last) = 0;
+    virtual void close_wave() = 0;
+    // On those models: pixel (x, y) of the last frame, its take's cycle, its
+    // done turn's cycle, then the cycle of each of its trace events, in
+    // frame cycles as above; nothing for a pixel the frame did not run, or
+    // on the other models.
+    virtual void wave_cycles(std::uint16_t x, std::uint16_t y, rust::Vec<std::uint64_t>& out) const = 0;
 };
 
 // Builds and resets the top verilated with `procs` processors and these
@@ -68,6 +80,10 @@ std::unique_ptr<TopSim> new_top(std::uint32_t procs, std::uint32_t recip_method,
 // verilated with these method codes and exposure, driven as a top whose
 // processors are its contexts; throws if that variant was not built.
 std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
+
+// The same, verilated with --trace-fst, for the waveform window
+// (harness/wave.rs); throws if that variant was not built.
+std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method);
 
 // Builds and resets the top of `procs` fast processors (rtl/top.v with
 // FAST = 1) verilated with these method codes; its slots are processor *
