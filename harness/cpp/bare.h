@@ -31,7 +31,10 @@ void reset_model(M& m) {
 
 // One scene-port write (register `addr`, or the configuration word when
 // `cfg`), taken at the next rising edge; ends sampled. The caller has
-// checked that the port is ready.
+// checked that the port is ready. Idle again, the port's address and data
+// are don't-cares, and are driven so: the complement of what was written,
+// so that RTL reading them outside a write (a configuration register that
+// follows scene_data, say) loads other values and is seen.
 template <class M>
 void write_scene_port(M& m, bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
     m.scene_we = 1;
@@ -45,6 +48,10 @@ void write_scene_port(M& m, bool cfg, std::uint8_t addr, std::uint32_t x, std::u
     m.eval();
     m.scene_we = 0;
     m.scene_cfg = 0;
+    m.scene_addr = static_cast<std::uint8_t>(~addr & 0x7F);  // ISA_DIM_REG_BITS = 7
+    m.scene_data[0] = ~x;
+    m.scene_data[1] = ~y;
+    m.scene_data[2] = ~z;
     m.clk = 0;
     m.eval();
 }
