@@ -310,10 +310,10 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
     );
 }
 
-#[test]
-fn an_injected_rtl_fault_fails_the_confirmation() {
-    let dir = scratch("sweep", "fault");
-    let out = rtcosim(&[
+/// A sweep of the reference scene at 16x12, depth 2, 8 sampled pixels, into
+/// `dir`, with `extra` arguments.
+fn small_sweep(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "sweep",
         "--scene",
         "reference",
@@ -323,11 +323,17 @@ fn an_injected_rtl_fault_fails_the_confirmation() {
         "2",
         "--sample",
         "8",
-        "--fault",
-        "PRI_HALF:0x400",
         "--out",
-        arg(&dir),
-    ]);
+        arg(dir),
+    ];
+    args.extend(extra);
+    rtcosim(&args)
+}
+
+#[test]
+fn an_injected_rtl_fault_fails_the_confirmation() {
+    let dir = scratch("sweep", "fault");
+    let out = small_sweep(&dir, &["--fault", "PRI_HALF:0x400"]);
     let stdout = text(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stdout}{}", text(&out.stderr));
     assert!(stdout.contains("FAILED"), "{stdout}");
@@ -355,25 +361,11 @@ fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
                 "fast"
             },
         );
-        let mut args = vec![
-            "sweep",
-            "--scene",
-            "reference",
-            "--size",
-            "16x12",
-            "--depths",
-            "2",
-            "--sample",
-            "8",
-            "--processor",
-            "fast",
-            "--out",
-            arg(&dir),
-        ];
+        let mut args = vec!["--processor", "fast"];
         if let Some(f) = fault {
             args.extend(["--fault", f]);
         }
-        let out = rtcosim(&args);
+        let out = small_sweep(&dir, &args);
         let stdout = text(&out.stdout);
         let expected = if fault.is_some() { 1 } else { 0 };
         assert_eq!(
