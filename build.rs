@@ -123,19 +123,21 @@ const FAST_ALU_VARIANTS: &[(&str, &str, bool)] = &[
 ];
 
 /// The fast processor's variants every build verilates, (recip, sqrt,
-/// exposure), each with its trace and fault ports (`PP_TRACE`).
-/// Every method pair, as the compact processor (the fuzzer draws them).
+/// exposure), each with its trace and fault ports (`PP_TRACE`): every
+/// method pair, as the compact processor (the fuzzer draws them), and
+/// the exact pair without the exponential (`EXPOSURE = 0`, `cosim
+/// --no-exp-unit`).
 const FAST_PP_VARIANTS: &[(&str, &str, bool)] = &[
     ("exact", "exact", true),
     ("exact", "fast", true),
     ("fast", "exact", true),
     ("fast", "fast", true),
+    ("exact", "exact", false),
 ];
 
 /// The fast processor's variants verilated with `--trace-fst` for the
-/// waveform window (`harness::wave`): every method pair, as the compact
-/// processor's, so that `--wave` re-runs any scene on the variant it
-/// diverged on.
+/// waveform window (`harness::wave`): the same as [`FAST_PP_VARIANTS`],
+/// so that `--wave` re-runs any scene on the variant it diverged on.
 const FAST_PP_WAVE_VARIANTS: &[(&str, &str, bool)] = FAST_PP_VARIANTS;
 
 /// The top variants every build verilates, (N, recip, sqrt): the ones the

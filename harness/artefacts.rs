@@ -142,6 +142,8 @@ pub fn to_json(run: &Run, report: &CosimReport) -> serde_json::Value {
             "rtl_cycles_per_second": run.per_second(report.compare.counts.a_cycles),
         },
         "top": report.top.map(|t| json!({
+            "processor": t.processor.name(),
+            "exp_unit": t.exp_unit,
             "processors": t.procs,
             "through_top": t.through_top,
             "contexts": t.contexts,

@@ -306,7 +306,11 @@ pub(crate) mod ffi {
 
         /// The same, verilated with `--trace-fst` (exposure on), for the
         /// waveform window; fails if that variant was not built.
-        fn new_fast_wave_top(recip_method: u32, sqrt_method: u32) -> Result<UniquePtr<TopSim>>;
+        fn new_fast_wave_top(
+            recip_method: u32,
+            sqrt_method: u32,
+            exposure: bool,
+        ) -> Result<UniquePtr<TopSim>>;
 
         /// Builds and resets the top of `procs` fast processors (rtl/top.v
         /// with FAST = 1) with these method codes, as a top whose

@@ -88,6 +88,10 @@ pub struct TopOptions {
     /// Whether rtl/top.v is around the processors (always for compact
     /// ones).
     pub through_top: bool,
+    /// Whether the processors have their exponential: false only for the
+    /// bare fast processor built without it (`EXPOSURE = 0`), which draws
+    /// scenes without exposure only.
+    pub exp_unit: bool,
     /// `out_ready` low in this share of cycles (percent, seeded per tile).
     pub stall_percent: u32,
 }
@@ -99,6 +103,7 @@ impl TopOptions {
             processor: ProcessorKind::Compact,
             procs,
             through_top: true,
+            exp_unit: true,
             stall_percent: 0,
         }
     }
@@ -109,6 +114,7 @@ impl TopOptions {
             processor: ProcessorKind::Fast,
             procs: 1,
             through_top: false,
+            exp_unit: true,
             stall_percent: 0,
         }
     }
@@ -120,6 +126,7 @@ impl TopOptions {
             processor: ProcessorKind::Fast,
             procs,
             through_top: true,
+            exp_unit: true,
             stall_percent: 0,
         }
     }
@@ -136,10 +143,11 @@ impl TopOptions {
     /// with the options' timeout and fault.
     pub fn build_for(&self, scene: &Scene, options: &CosimOptions) -> Result<Top, PpError> {
         let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
-        let mut t = match (self.processor, self.through_top) {
-            (ProcessorKind::Compact, _) => Top::new(self.procs, recip, sqrt),
-            (ProcessorKind::Fast, false) => Top::new_fast(recip, sqrt),
-            (ProcessorKind::Fast, true) => Top::new_fast_procs(self.procs, recip, sqrt),
+        let mut t = match (self.processor, self.through_top, self.exp_unit) {
+            (ProcessorKind::Compact, ..) => Top::new(self.procs, recip, sqrt),
+            (ProcessorKind::Fast, false, true) => Top::new_fast(recip, sqrt),
+            (ProcessorKind::Fast, false, false) => Top::new_fast_without_exp(recip, sqrt),
+            (ProcessorKind::Fast, true, _) => Top::new_fast_procs(self.procs, recip, sqrt),
         }?;
         t.set_timeout_cycles(options.timeout_cycles);
         t.set_fault(options.fault, u32::MAX);
@@ -155,6 +163,8 @@ pub struct TopReport {
     pub procs: u32,
     /// Whether rtl/top.v was around them.
     pub through_top: bool,
+    /// Whether they had their exponential ([`TopOptions::exp_unit`]).
+    pub exp_unit: bool,
     /// Pixel contexts in all (a compact processor has one).
     pub contexts: u32,
     pub tiles: u64,
@@ -225,7 +235,12 @@ impl fmt::Display for CosimReport {
         let processor = self.top.map_or(ProcessorKind::Compact, |t| t.processor);
         write!(
             f,
-            "{processor} pixel processor (recip {}, sqrt {}), window {}",
+            "{processor} pixel processor{} (recip {}, sqrt {}), window {}",
+            if self.top.is_some_and(|t| !t.exp_unit) {
+                " without its exponential"
+            } else {
+                ""
+            },
             self.recip,
             self.sqrt,
             self.window.describe()
@@ -689,6 +704,7 @@ fn top_report(
         processor: top.processor,
         procs: top.procs,
         through_top: top.through_top,
+        exp_unit: top.exp_unit,
         contexts: top.contexts(),
         tiles,
         stats,

@@ -70,6 +70,16 @@ pub enum PpError {
         recip: Method,
         sqrt: Method,
     },
+    /// A scene with exposure for a processor built without its exponential.
+    #[error(
+        "the scene sets an exposure (render.exposure = {}), but this fast processor was built \
+         without its exponential (EXPOSURE = 0): it draws scenes without exposure only",
+        f32::from_bits(*exposure_bits)
+    )]
+    NoExpUnit {
+        /// The scene's exposure, as bits (the error is `Eq`).
+        exposure_bits: u32,
+    },
     /// A pixel before any scene was loaded.
     #[error("no scene is loaded into the pixel processor")]
     NoScene,

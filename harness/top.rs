@@ -133,6 +133,8 @@ pub struct Top {
     layout: SlotLayout,
     recip: Method,
     sqrt: Method,
+    /// Whether the processors have their exponential (`EXPOSURE = 1`).
+    exp_unit: bool,
     inner: UniquePtr<ffi::TopSim>,
     scene: Option<Loaded>,
     poisoned: bool,
@@ -164,11 +166,43 @@ impl Top {
         Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
     }
 
-    /// [`Top::new_fast`] on the variant verilated with `--trace-fst`, for
-    /// the waveform window ([`crate::wave`]).
-    pub(crate) fn new_fast_wave(recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let built = ffi::new_fast_wave_top(recip.code(), sqrt.code());
-        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
+    /// [`Top::new_fast`] built without the exponential (`EXPOSURE = 0`),
+    /// as a scene without exposure needs: [`Top::load_scene`] refuses a
+    /// scene with one.
+    pub fn new_fast_without_exp(recip: Method, sqrt: Method) -> Result<Top, PpError> {
+        let built = ffi::new_fast_top(recip.code(), sqrt.code(), false);
+        Top::without_exp(Top::around(
+            built,
+            SlotLayout::FastContexts,
+            FAST_CONTEXTS,
+            recip,
+            sqrt,
+        ))
+    }
+
+    /// [`Top::new_fast`] (or, `exp_unit` false, [`Top::new_fast_without_exp`])
+    /// on the variant verilated with `--trace-fst`, for the waveform
+    /// window ([`crate::wave`]).
+    pub(crate) fn new_fast_wave(
+        recip: Method,
+        sqrt: Method,
+        exp_unit: bool,
+    ) -> Result<Top, PpError> {
+        let built = ffi::new_fast_wave_top(recip.code(), sqrt.code(), exp_unit);
+        let top = Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt);
+        if exp_unit {
+            top
+        } else {
+            Top::without_exp(top)
+        }
+    }
+
+    /// `top` marked as built without the exponential.
+    fn without_exp(top: Result<Top, PpError>) -> Result<Top, PpError> {
+        top.map(|t| Top {
+            exp_unit: false,
+            ..t
+        })
     }
 
     /// On a [`Top::new_fast_wave`] model, once: dumps the cycles
@@ -233,6 +267,7 @@ impl Top {
             layout,
             recip,
             sqrt,
+            exp_unit: true,
             inner,
             scene: None,
             poisoned: false,
@@ -272,11 +307,23 @@ impl Top {
             .set_backpressure(seed, stall_percent.min(100));
     }
 
-    /// Resets the top (every processor) and loads `scene` through the
-    /// broadcast scene port. Refuses a scene whose float methods are not
-    /// the model's before touching the model.
-    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+    /// Refuses `scene` unless the model can draw it: its float methods,
+    /// and an exponential if it sets an exposure.
+    fn check_scene(&self, scene: &Scene) -> Result<(), PpError> {
         check_methods(scene, self.recip, self.sqrt)?;
+        match scene.render.exposure {
+            Some(exposure) if !self.exp_unit => Err(PpError::NoExpUnit {
+                exposure_bits: exposure.to_bits(),
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Resets the top (every processor) and loads `scene` through the
+    /// broadcast scene port. Refuses a scene it cannot draw (see
+    /// [`Top::check_scene`]) before touching the model.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
+        self.check_scene(scene)?;
         self.scene = None;
         self.poisoned = true;
         self.inner
@@ -295,7 +342,7 @@ impl Top {
     /// the top takes while no processor has a pixel (thesis, future work:
     /// "make the scene dynamic").
     pub fn change_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
-        check_methods(scene, self.recip, self.sqrt)?;
+        self.check_scene(scene)?;
         if self.poisoned {
             return Err(PpError::Poisoned);
         }

@@ -243,7 +243,8 @@ pub fn write_golden(
 
 /// Writes the verilated RTL's trace (its trace port) of the pixels in
 /// `window`, row by row, left to right, to `path`, from `processor` (the
-/// model of the scene's methods) with `fault` injected (a self-test) and
+/// model of the scene's methods; the fast one without its exponential
+/// unless `exp_unit`) with `fault` injected (a self-test) and
 /// the watchdog at `timeout_cycles`; `progress` is called once per pixel.
 /// The compact processor runs one pixel at a time; the fast one is fed the
 /// window in tiles of [`cosim::TILE_ROWS`] rows, reset before each, and its
@@ -255,7 +256,7 @@ pub fn write_rtl(
     scene: &Scene,
     scene_name: &str,
     window: Window,
-    processor: ProcessorKind,
+    (processor, exp_unit): (ProcessorKind, bool),
     fault: Option<Fault>,
     timeout_cycles: u64,
     path: &Path,
@@ -265,9 +266,10 @@ pub fn write_rtl(
     let writer = with_fault(
         format!(
             "model={} processor={processor} simulator={}",
-            match processor {
-                ProcessorKind::Compact => "pixel_processor",
-                ProcessorKind::Fast => "fast_pp",
+            match (processor, exp_unit) {
+                (ProcessorKind::Compact, _) => "pixel_processor",
+                (ProcessorKind::Fast, true) => "fast_pp",
+                (ProcessorKind::Fast, false) => "fast_pp_without_exp",
             },
             one_word(crate::VERILATOR_VERSION)
         ),
@@ -294,7 +296,11 @@ pub fn write_rtl(
             events
         }
         ProcessorKind::Fast => {
-            let mut rtl = Top::new_fast(recip, sqrt)?;
+            let mut rtl = if exp_unit {
+                Top::new_fast(recip, sqrt)?
+            } else {
+                Top::new_fast_without_exp(recip, sqrt)?
+            };
             rtl.set_timeout_cycles(timeout_cycles);
             rtl.set_fault(fault, u32::MAX);
             let mut file = TraceFile::create(path, &header)?;

@@ -46,7 +46,7 @@
 //! `first` ns to `last + 1` ns.
 
 use crate::compare::Divergence;
-use crate::cosim;
+use crate::cosim::{self, TopOptions};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
 use crate::processor::ProcessorKind;
 use crate::top::{Source, Top};
@@ -76,27 +76,33 @@ pub enum Replay {
     Compact,
     /// The fast processor fed `tile`'s coordinates row by row from reset,
     /// `out_ready` low in `stall_percent` % of the cycles as
-    /// [`cosim::run_top`] drew them for the tile.
-    Fast { tile: Window, stall_percent: u32 },
+    /// [`cosim::run_top`] drew them for the tile; built without its
+    /// exponential unless `exp_unit`.
+    Fast {
+        tile: Window,
+        stall_percent: u32,
+        exp_unit: bool,
+    },
 }
 
 impl Replay {
-    /// The re-run of pixel row `y` of a run of `window` on `processor`
-    /// (with `stall_percent`): for the fast processor, the tile of
-    /// [`cosim::tiles`] that holds the row.
-    pub fn of(processor: ProcessorKind, window: Window, stall_percent: u32, y: u32) -> Replay {
-        match processor {
-            ProcessorKind::Compact => Replay::Compact,
-            ProcessorKind::Fast => {
+    /// The re-run of pixel row `y` of a run of `window` through `top`
+    /// (`None`: the compact processor bare): for the fast processor, the
+    /// tile of [`cosim::tiles`] that holds the row, on one processor.
+    pub fn of(top: Option<&TopOptions>, window: Window, y: u32) -> Replay {
+        match top {
+            Some(top) if top.processor == ProcessorKind::Fast => {
                 let tile = cosim::tiles(window)
                     .into_iter()
                     .find(|t| (t.y..t.y + t.height).contains(&y))
                     .unwrap_or(window);
                 Replay::Fast {
                     tile,
-                    stall_percent,
+                    stall_percent: top.stall_percent,
+                    exp_unit: top.exp_unit,
                 }
             }
+            _ => Replay::Compact,
         }
     }
 
@@ -285,6 +291,7 @@ pub fn write_window(
         Replay::Fast {
             tile,
             stall_percent,
+            exp_unit,
         } => fast_window(
             scene,
             fault,
@@ -293,8 +300,7 @@ pub fn write_window(
             divergence_seq,
             k,
             &fst,
-            tile,
-            stall_percent,
+            (tile, stall_percent, exp_unit),
         )?,
     };
     let at = match at {
@@ -420,15 +426,14 @@ fn fast_window(
     divergence_seq: Option<u32>,
     k: u64,
     fst: &Path,
-    tile: Window,
-    stall_percent: u32,
+    (tile, stall_percent, exp_unit): (Window, u32, bool),
 ) -> Result<Rerun, WaveError> {
     let coords: Vec<(u32, u32)> = tile.iter().collect();
     let fst_error = |message: String| WaveError::Fst { x, y, message };
     // One run of the tile on a fresh traced model: the pixel's outcome,
     // its events' states, and its cycles (take, done turn, events).
     let run = |window: Option<(u64, u64)>| -> Result<_, WaveError> {
-        let mut rtl = Top::new_fast_wave(scene.render.recip, scene.render.sqrt)?;
+        let mut rtl = Top::new_fast_wave(scene.render.recip, scene.render.sqrt, exp_unit)?;
         rtl.set_fault(fault, u32::MAX);
         rtl.load_scene(scene)?;
         rtl.set_backpressure(cosim::backpressure_seed(&coords), stall_percent);

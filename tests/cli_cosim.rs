@@ -758,3 +758,82 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         common::assert_refused(&all, &[message]);
     }
 }
+
+/// `cosim --processor fast --no-exp-unit`: the fast processor built without
+/// its exponential (EXPOSURE = 0) agrees on a scene without exposure, and
+/// the report says which build ran; an injected fault fails it; a scene
+/// with exposure is refused by name before anything runs, as are the
+/// choices the flag cannot go with.
+#[test]
+fn the_fast_processor_without_its_exponential_agrees_and_refuses_exposure() {
+    let base = [
+        "cosim",
+        "--size",
+        "40x30",
+        "--processor",
+        "fast",
+        "--no-exp-unit",
+    ];
+    let out = rtcosim(&[&base[..], &["--window", "4,4,23,11"]].concat());
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.lines().next().is_some_and(|l| l
+            .starts_with("rtcosim cosim: fast processor without its exponential, scene reference")),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("fast pixel processor without its exponential (recip exact, sqrt exact)")
+            && stdout.contains("as the barrel rule predicts"),
+        "{stdout}"
+    );
+    assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+    assert!(number_in(&stdout, "events:", " compared") > 0, "{stdout}");
+    assert!(stdout.contains("PASS: "), "{stdout}");
+
+    let out = rtcosim(
+        &[
+            &base[..],
+            &["--window", "4,4,7,5", "--fault", "PRI_HALF:0x400"],
+        ]
+        .concat(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", both(&out));
+    assert!(
+        text(&out.stdout).contains("FAIL: 8 of 8 pixels diverge"),
+        "{}",
+        both(&out)
+    );
+
+    common::assert_refused(
+        &[
+            "cosim",
+            "--size",
+            "40x30",
+            "--window",
+            "0,0",
+            "--no-exp-unit",
+        ],
+        &[
+            "--no-exp-unit builds the fast processor without its exponential: it needs \
+           --processor fast",
+        ],
+    );
+    let cases: [(&[&str], &str); 2] = [
+        (
+            &["--scene", "overexposed"],
+            "--no-exp-unit: scene overexposed sets an exposure (render.exposure = -1.5), which \
+             the fast processor without its exponential cannot draw",
+        ),
+        (
+            &["--procs", "2"],
+            "--no-exp-unit: the tops of fast processors are verilated with the exponential only",
+        ),
+    ];
+    for (args, message) in cases {
+        let mut all = base.to_vec();
+        all.extend(["--window", "0,0"]);
+        all.extend(args);
+        common::assert_refused(&all, &[message]);
+    }
+}

@@ -157,10 +157,20 @@ fn fast_processor_checkers_fail_on_injected_faults() {
 /// engine (`cosim::run_top`, tiles of 4 rows) with `top`: every event,
 /// colour and pixel cycle count, and each tile's frame cycles, as golden
 /// and the processors' rule say.
+/// A processor without its exponential (`top.exp_unit` false) runs the
+/// scenes without exposure (at least one is left out).
 fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
     use rtcosim::cosim::{self, CosimOptions};
-    for &name in Scene::builtin_names() {
-        let scene = builtin(name, 32, 24);
+    let scenes: Vec<_> = Scene::builtin_names()
+        .iter()
+        .map(|&name| (name, builtin(name, 32, 24)))
+        .filter(|(_, scene)| top.exp_unit || scene.render.exposure.is_none())
+        .collect();
+    assert!(
+        top.exp_unit || scenes.len() < Scene::builtin_names().len(),
+        "a builtin scene with exposure"
+    );
+    for (name, scene) in scenes {
         let window = Window::full(&scene);
         let r = cosim::run_top(&scene, window, &CosimOptions::default(), top, &|_| {})
             .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -185,6 +195,54 @@ fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
 #[test]
 fn every_builtin_scene_agrees_on_the_fast_processor() {
     assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast());
+}
+
+/// `cosim --processor fast --no-exp-unit`: the fast processor built
+/// without its exponential (`EXPOSURE = 0`) on every builtin scene without
+/// exposure; a fault planted in it is reported; it refuses a scene with
+/// exposure when the scene is loaded, naming why.
+#[test]
+fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp() {
+    use rtcosim::cosim::{self, CosimOptions, TopOptions};
+    use rtcosim::pixel_proc::PpError;
+    let without = TopOptions {
+        exp_unit: false,
+        ..TopOptions::fast()
+    };
+    assert_every_builtin_scene_agrees(&without);
+
+    let scene = builtin("reference", 32, 24);
+    let options = CosimOptions {
+        fault: Some(Fault {
+            state: state::PRI_HALF,
+            xor: 0x400,
+        }),
+        ..CosimOptions::default()
+    };
+    let r = cosim::run_top(&scene, Window::full(&scene), &options, &without, &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(!r.passed() && r.compare.counts.divergent_pixels > 0, "{r}");
+
+    let overexposed = builtin("overexposed", 32, 24);
+    let exposure = overexposed
+        .render
+        .exposure
+        .expect("overexposed sets an exposure");
+    let mut t = Top::new_fast_without_exp(overexposed.render.recip, overexposed.render.sqrt)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let refused = t.load_scene(&overexposed);
+    assert_eq!(
+        refused,
+        Err(PpError::NoExpUnit {
+            exposure_bits: exposure.to_bits()
+        })
+    );
+    assert!(refused
+        .unwrap_err()
+        .to_string()
+        .contains("built without its exponential (EXPOSURE = 0)"),);
+    // The build with it draws the scene.
+    t.load_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
 }
 
 /// Backpressure: the result stream held back in 99% of the cycles fills

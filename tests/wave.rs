@@ -633,7 +633,7 @@ fn the_fast_processors_window_is_its_tile_re_run_around_the_divergence() {
     let seq = d.seq().expect("an event diverged");
     let (rtl_event, _) = d.events();
     let rtl_event = rtl_event.expect("the RTL's divergent event");
-    let replay = Replay::of(ProcessorKind::Fast, window, 0, d.y);
+    let replay = Replay::of(Some(&TopOptions::fast()), window, d.y);
     assert!(
         matches!(replay, Replay::Fast { tile, .. } if tile.y <= d.y && d.y < tile.y + tile.height)
     );

@@ -40,6 +40,12 @@ pub struct CosimArgs {
     /// N of them through rtl/top.v).
     #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
     pub processor: ProcessorKind,
+    /// With --processor fast: the fast processor built without its
+    /// exponential (rtl/fast/fast_pp.v with EXPOSURE = 0: no fp_exp, fewer
+    /// DSPs), all a scene without exposure needs. A scene that sets
+    /// render.exposure is refused. One processor, not a top (--procs).
+    #[arg(long)]
+    pub no_exp_unit: bool,
     /// Drive the top module (rtl/top.v) with N pixel processors instead of
     /// one bare pixel processor per thread: tiles of the window are streamed
     /// through one top per thread, and the report adds the top's frame
@@ -119,6 +125,27 @@ pub fn run(args: CosimArgs) -> Result<bool> {
              fast processor's top goes to 64: --processor fast)"
         );
     }
+    if args.no_exp_unit {
+        if !fast {
+            anyhow::bail!(
+                "--no-exp-unit builds the fast processor without its exponential: it needs \
+                 --processor fast (the compact processor always has one)"
+            );
+        }
+        if args.procs.is_some() {
+            anyhow::bail!(
+                "--no-exp-unit: the tops of fast processors are verilated with the exponential \
+                 only; drop --procs to co-simulate one processor without it"
+            );
+        }
+        if let Some(exposure) = scene.render.exposure {
+            anyhow::bail!(
+                "--no-exp-unit: scene {} sets an exposure (render.exposure = {exposure}), which \
+                 the fast processor without its exponential cannot draw; drop --no-exp-unit",
+                args.scene.scene
+            );
+        }
+    }
     if args.stall > 0 && args.procs.is_none() && !fast {
         anyhow::bail!("--stall holds back a result stream: it needs --procs or --processor fast");
     }
@@ -140,9 +167,14 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "rtcosim cosim: {} processor, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), \
+        "rtcosim cosim: {} processor{}, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), \
          window {window} ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
         args.processor,
+        if args.no_exp_unit {
+            " without its exponential"
+        } else {
+            ""
+        },
         args.scene.scene,
         scene.render.max_depth,
         scene.render_hash(),
@@ -201,6 +233,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     }
     .map(|t| TopOptions {
         stall_percent: args.stall,
+        exp_unit: !args.no_exp_unit,
         ..t
     });
     let result = pool.install(|| match &top {
@@ -252,7 +285,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
                 &scene,
                 &args.scene.scene,
                 trace_window,
-                args.processor,
+                (args.processor, !args.no_exp_unit),
                 args.fault,
                 args.timeout_cycles,
                 path,
@@ -262,7 +295,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     }
     args.wave
         .write(&mut out, &scene, &report, args.out.as_deref(), |y| {
-            Replay::of(args.processor, window, args.stall, y)
+            Replay::of(top.as_ref(), window, y)
         })?;
     Ok(report.passed())
 }

@@ -103,8 +103,14 @@ impl WaveArgs {
             w.y,
             match w.replay {
                 Replay::Compact => String::new(),
-                Replay::Fast { tile, .. } => format!(
-                    " of the fast processor, fed tile {tile} from reset (cycles from its first take)"
+                Replay::Fast { tile, exp_unit, .. } => format!(
+                    " of the fast processor{}, fed tile {tile} from reset (cycles from its first \
+                     take)",
+                    if exp_unit {
+                        ""
+                    } else {
+                        " without its exponential"
+                    }
                 ),
             },
             w.first_cycle,

@@ -478,14 +478,15 @@ std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t s
                                 (exposure ? " and exposure" : " and without exposure"));
 }
 
-std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method) {
+std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure) {
 #define RTCOSIM_FAST_PP_WAVE_CASE(cls, recip, sqrt, exp) \
-    if (recip_method == (recip) && sqrt_method == (sqrt) && (exp) != 0) \
+    if (recip_method == (recip) && sqrt_method == (sqrt) && exposure == ((exp) != 0)) \
         return std::make_unique<Top<cls, 1, Kind::FastPp, FstWave>>(#cls);
     RTCOSIM_FAST_PP_WAVE_MODELS(RTCOSIM_FAST_PP_WAVE_CASE)
 #undef RTCOSIM_FAST_PP_WAVE_CASE
     throw std::invalid_argument("no fast processor was verilated with --trace-fst, recip method " +
-                                std::to_string(recip_method) + " and sqrt method " + std::to_string(sqrt_method));
+                                std::to_string(recip_method) + ", sqrt method " + std::to_string(sqrt_method) +
+                                (exposure ? " and exposure" : " and without exposure"));
 }
 
 std::unique_ptr<TopSim> new_fast_procs_top(std::uint32_t procs, std::uint32_t recip_method, std::uint32_t sqrt_method) {

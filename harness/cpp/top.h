@@ -83,7 +83,7 @@ std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t s
 
 // The same, verilated with --trace-fst, for the waveform window
 // (harness/wave.rs); throws if that variant was not built.
-std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method);
+std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
 
 // Builds and resets the top of `procs` fast processors (rtl/top.v with
 // FAST = 1) verilated with these method codes; its slots are processor *
