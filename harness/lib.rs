@@ -20,6 +20,9 @@
 //! - [`coverage`]: what the runs exercised of the RTL: the coverage models
 //!   (cargo feature `coverage`), their counts merged into Verilator's
 //!   coverage.dat, lcov, HTML and a summary.
+//! - [`device`]: what a build of the processor costs in hardware
+//!   (rtl/synth/costs.toml), and the frames a second of a device full of
+//!   it.
 //! - [`fuzz`]: random scene files, and campaigns that co-simulate them.
 //! - [`scenes`]: scenes as the user names them, with size and method
 //!   overrides.
@@ -41,6 +44,7 @@ mod bridge;
 pub mod compare;
 pub mod cosim;
 pub mod coverage;
+pub mod device;
 pub mod fast_alu;
 pub mod fp_check;
 pub mod fp_unit;
