@@ -229,24 +229,33 @@ def main(path):
         for b in order:
             bv, bp = None, None
             for nb in fanin[b]:
-                if nb not in fanin and nb not in sources:
-                    continue  # constant or undriven
-                v = (val[nb] if nb in fanin else 0) + weight(cell_of[b], key, cell_of.get(nb))
+                if nb in fanin:
+                    if val[nb] is None:
+                        continue  # no register starts a path to it
+                    v0 = val[nb]
+                elif nb in sources:
+                    v0 = 0
+                else:
+                    continue  # a constant, a top-level input or undriven
+                v = v0 + weight(cell_of[b], key, cell_of.get(nb))
                 if bv is None or v > bv:
                     bv, bp = v, nb
-            val[b] = weight(cell_of[b], key) if bv is None else bv
+            # Only paths that start at a register count: a bit reached from
+            # top-level inputs and constants alone has none (counting those
+            # let an input's longer path hide a register's at the same end).
+            val[b] = bv
             prev[b] = bp
         # Endpoints: bits read by a sink port (or a top-level output).
         ends = []
         for cn, c in cells.items():
             for p in sink_ports[cn]:
                 for b in c["connections"].get(p, []):
-                    if isinstance(b, int) and b in val:
+                    if isinstance(b, int) and val.get(b) is not None:
                         ends.append((val[b], b, (cn, p), True))
         for p, pd in top["ports"].items():
             if pd["direction"] == "output":
                 for b in pd["bits"]:
-                    if isinstance(b, int) and b in val:
+                    if isinstance(b, int) and val.get(b) is not None:
                         ends.append((val[b], b, (f"<output {p}>", p), False))
         ends.sort(key=lambda e: -e[0])
         reg_ends = [e for e in ends if e[3]]
