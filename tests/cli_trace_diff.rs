@@ -275,7 +275,7 @@ fn the_fast_processors_trace_agrees_and_its_faults_are_located_in_fast_ctrl() {
     assert_eq!(out.status.code(), Some(1), "{stdout}{}", text(&out.stderr));
     let fast_line = verilog_line_in(
         "rtl/fast/fast_ctrl.v",
-        "function [PLW-1:0] plan(",
+        "function [PLVW-1:0] plan(",
         "PRI_HALF",
     );
     assert_ne!(fast_line, verilog_line("PRI_HALF"));

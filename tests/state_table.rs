@@ -306,7 +306,7 @@ fn every_state_maps_to_the_verilog_line_that_decodes_it() {
         (
             ProcessorKind::Fast,
             FAST_CTRL,
-            "function [PLW-1:0] plan(",
+            "function [PLVW-1:0] plan(",
             Some("IDLE"),
         ),
     ] {

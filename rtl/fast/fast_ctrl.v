@@ -38,12 +38,15 @@
 //            flags (cond = inv ^ |(y_neg & mn | y_pos & mp)), and which
 //            flags the state latches (direction, facing, cut)
 //   6  (P3)  the candidates, whole
-//   7  (P4a) each candidate's plan (opcode, mask, and per address field
-//            its register or a code naming its operand source) and its
-//            operand sources
-//   8  (P4b) each candidate's micro-op, logical addresses: the picks
-//   9  (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
-//   10 .. LAT+2         carried (shift registers)
+//   7  (P4a1) each candidate's plan from its state id (opcode, mask, and
+//            per address field its register or a code naming its operand
+//            source; a variant code where the call or the rotation axis
+//            changes a field)
+//   8  (P4a2) the variant's fields from the call and the axis; each
+//            candidate's operand sources
+//   9  (P4b) each candidate's micro-op, logical addresses: the picks
+//   10 (P5)  physical addresses (rtl/pp/mem_ctrl.v, each with its own sp)
+//   11 .. LAT+2         carried (shift registers)
 //   LAT+2    (C1)  the flags arrive: the condition, the latches, and for
 //            NORM_SCALE the planes the fresh direction leaves open (the
 //            fast plane test) and BOX_FAR's corner
@@ -111,7 +114,7 @@ module fast_ctrl #(
 
     // Positions of the ring (see the header).
     localparam integer POS_C1 = LATENCY + 2;
-    localparam integer CARRY1 = POS_C1 - 9;          // positions 10 .. LAT+2
+    localparam integer CARRY1 = POS_C1 - 10;         // positions 11 .. LAT+2
     localparam integer CARRY2 = K - (LATENCY + 4);   // positions LAT+4 .. K-1
 
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
@@ -413,14 +416,16 @@ module fast_ctrl #(
     endfunction
 
     // The micro-op of a state (pp_ctrl's instruction of each state), with
-    // logical addresses, in two steps, so that no path both decodes the
-    // state and picks an operand:
-    //   P4a  plan(st, call, rot): the opcode, the lane mask, and per address field
-    //        either its register (a constant of the state and the call)
-    //        or which operand source it reads (a code); operands(s): the
-    //        sources, every address that depends on more of S (the
-    //        object, the level, the context, the direction), each a small
-    //        function of a few bits;
+    // logical addresses, in three steps, so that no path both decodes the
+    // state and picks an operand, and none decodes more than a few inputs:
+    //   P4a1 plan(st): of the state id alone, the opcode, the lane mask, and
+    //        per address field either its register (a constant of the
+    //        state) or which operand source it reads (a code); where the
+    //        call or the rotation axis changes a field, a variant code;
+    //   P4a2 with_variant(plan, call, rot): those fields filled in from the
+    //        call and the axis; operands(s): the sources, every address
+    //        that depends on more of S (the object, the level, the
+    //        context, the direction), each a small function of a few bits;
     //   P4b  micro_op: each field its constant (code 0) or its source.
     // The sources of each field, by code (0: the constant).
     localparam integer SELW = 4, WSELW = 3;
@@ -446,22 +451,27 @@ module fast_ctrl #(
     localparam integer PL_M   = PL_AS + SELW;
     localparam integer PL_OP  = PL_M + LN;
     localparam integer PLW    = PL_OP + OPW;
+    // A plan of P4a1 carries a variant code above it: which fields the
+    // call or the rotation axis sets (P4a2).
+    localparam integer VARW = 3;
+    localparam [VARW-1:0]  V_NONE = 0, V_DOT_1 = 1, V_DOT_3 = 2, V_NORM_SCALE = 3, V_ROT_U = 4,
+                           V_ROT_V = 5, V_ROT_UV = 6;
+    localparam integer PLVW   = PLW + VARW;
     // The operand sources: {w's codes W_N-1 .. 1, b's B_N-1 .. 1, a's A_N-1 .. 1}.
     localparam integer SRC_A  = 0;
     localparam integer SRC_B  = SRC_A + (A_N - 1) * RW;
     localparam integer SRC_W  = SRC_B + (B_N - 1) * RW;
     localparam integer SRCW   = SRC_W + (W_N - 1) * RW;
 
-    function [PLW-1:0] plan(input [SW-1:0] st, input [CALLW-1:0] call, input [RAW-1:0] rot);
+    function [PLVW-1:0] plan(input [SW-1:0] st);
         reg [OPW-1:0]   o;
         reg [RW-1:0]    a, b, w;
         reg [SELW-1:0]  as, bs;
         reg [WSELW-1:0] ws;
-        reg [LN-1:0]    m, rot_u, rot_v;
+        reg [LN-1:0]    m;
+        reg [VARW-1:0]  v;
         begin
-            rot_u = rot == 0 ? M_Y : rot == 1 ? M_Z : M_X;
-            rot_v = rot == 0 ? M_Z : rot == 1 ? M_X : M_Y;
-
+            v  = V_NONE;
             o  = `ISA_OP_NOP;
             a  = `ISA_REG_ZERO;
             b  = `ISA_REG_ZERO;
@@ -474,37 +484,15 @@ module fast_ctrl #(
                 `ISA_ST_PRI_ITOF:  begin o = `ISA_OP_ITOF; w = T_P; end
                 `ISA_ST_PRI_HALF:  begin o = `ISA_OP_ADD; w = T_P; a = T_P; b = `ISA_REG_CAM_HALF; end
                 `ISA_ST_ROT_COS:   begin o = `ISA_OP_MUL; w = T_N; a = T_P; bs = B_ROT_C; end
-                `ISA_ST_ROT_SIN_U: begin o = `ISA_OP_MULR1; w = T_R; as = A_ROT_S; b = T_P; m = rot_u; end
-                `ISA_ST_ROT_SIN_V: begin o = `ISA_OP_MULR2; w = T_R; as = A_ROT_S; b = T_P; m = rot_v; end
-                `ISA_ST_ROT_ADD:   begin o = `ISA_OP_ADD; w = T_P; a = T_N; b = T_R; m = rot_u | rot_v; end
-                `ISA_ST_DOT_1: begin
-                    o = `ISA_OP_DOT1;
-                    case (call)
-                        D_PRIMARY: begin a = T_P; b = T_P; end
-                        D_LIGHT:   begin a = T_R; b = T_R; end
-                        D_SPHERE:  begin a = T_V; bs = B_SEARCH_D; end
-                        D_DIFFUSE: begin as = A_OBJ_N; b = T_L; end
-                        D_REFLECT: begin as = A_SHADE_D; bs = B_OBJ_N; end
-                        default:   begin as = A_SHADE_R; b = T_L; end
-                    endcase
-                end
-                `ISA_ST_DOT_2: o = `ISA_OP_DOT2;
-                `ISA_ST_DOT_3: begin
-                    o = `ISA_OP_DOT3; m = M_X;
-                    case (call)
-                        D_PRIMARY, D_LIGHT: w = T_LEN;
-                        D_DIFFUSE:          w = T_V;
-                        default:            w = T_Q;
-                    endcase
-                end
+                `ISA_ST_ROT_SIN_U: begin o = `ISA_OP_MULR1; w = T_R; as = A_ROT_S; b = T_P; v = V_ROT_U; end
+                `ISA_ST_ROT_SIN_V: begin o = `ISA_OP_MULR2; w = T_R; as = A_ROT_S; b = T_P; v = V_ROT_V; end
+                `ISA_ST_ROT_ADD:   begin o = `ISA_OP_ADD; w = T_P; a = T_N; b = T_R; v = V_ROT_UV; end
+                `ISA_ST_DOT_1:      begin o = `ISA_OP_DOT1; v = V_DOT_1; end
+                `ISA_ST_DOT_2:      o = `ISA_OP_DOT2;
+                `ISA_ST_DOT_3:      begin o = `ISA_OP_DOT3; m = M_X; v = V_DOT_3; end
                 `ISA_ST_NORM_ROOTS: begin o = `ISA_OP_ROOTS; w = T_LEN; a = T_LEN; m = M_X | M_Y; end
                 `ISA_ST_NORM_INV:   begin o = `ISA_OP_MULR1; w = T_INV; a = T_LEN; b = T_LEN; m = M_X; end
-                `ISA_ST_NORM_SCALE: begin
-                    o = `ISA_OP_MULX;
-                    w = call == D_PRIMARY ? `ISA_REG_CUR_D : T_L;
-                    a = call == D_PRIMARY ? T_P : T_R;
-                    b = T_INV;
-                end
+                `ISA_ST_NORM_SCALE: begin o = `ISA_OP_MULX; b = T_INV; v = V_NORM_SCALE; end
                 `ISA_ST_ISECT_1:    begin o = `ISA_OP_ISECT1; as = A_ISECT_1; bs = B_ISECT_N; end
                 `ISA_ST_ISECT_2:    begin o = `ISA_OP_ISECT2; w = T_G; as = A_SEARCH_D; bs = B_ISECT_N; end
                 `ISA_ST_ISECT_3:    begin o = `ISA_OP_ISECT3; a = T_G; end
@@ -561,7 +549,48 @@ module fast_ctrl #(
                 `ISA_ST_PIX_DONE:   a = `ISA_REG_STK0_COL;
                 default: ;
             endcase
-            plan = {o, m, as, a, bs, b, ws, w};
+            plan = {v, o, m, as, a, bs, b, ws, w};
+        end
+    endfunction
+
+    // P4a2: the fields of a plan that its variant code `v` leaves to the
+    // call and the rotation axis (in plan, every such field is its
+    // default: register ZERO, code 0, mask XYZ).
+    function [PLW-1:0] with_variant(input [PLVW-1:0] p, input [CALLW-1:0] call,
+                                    input [RAW-1:0] rot);
+        reg [LN-1:0] rot_u, rot_v;
+        begin
+            rot_u = rot == 0 ? M_Y : rot == 1 ? M_Z : M_X;
+            rot_v = rot == 0 ? M_Z : rot == 1 ? M_X : M_Y;
+            with_variant = p[PLW-1:0];
+            case (p[PLW +: VARW])
+                V_DOT_1:
+                    case (call)
+                        D_PRIMARY: begin with_variant[PL_A +: RW] = T_P; with_variant[PL_B +: RW] = T_P; end
+                        D_LIGHT:   begin with_variant[PL_A +: RW] = T_R; with_variant[PL_B +: RW] = T_R; end
+                        D_SPHERE:  begin with_variant[PL_A +: RW] = T_V; with_variant[PL_BS +: SELW] = B_SEARCH_D; end
+                        D_DIFFUSE: begin with_variant[PL_AS +: SELW] = A_OBJ_N; with_variant[PL_B +: RW] = T_L; end
+                        D_REFLECT: begin
+                            with_variant[PL_AS +: SELW] = A_SHADE_D;
+                            with_variant[PL_BS +: SELW] = B_OBJ_N;
+                        end
+                        default:   begin with_variant[PL_AS +: SELW] = A_SHADE_R; with_variant[PL_B +: RW] = T_L; end
+                    endcase
+                V_DOT_3:
+                    case (call)
+                        D_PRIMARY, D_LIGHT: with_variant[PL_W +: RW] = T_LEN;
+                        D_DIFFUSE:          with_variant[PL_W +: RW] = T_V;
+                        default:            with_variant[PL_W +: RW] = T_Q;
+                    endcase
+                V_NORM_SCALE: begin
+                    with_variant[PL_W +: RW] = call == D_PRIMARY ? `ISA_REG_CUR_D : T_L;
+                    with_variant[PL_A +: RW] = call == D_PRIMARY ? T_P : T_R;
+                end
+                V_ROT_U:  with_variant[PL_M +: LN] = rot_u;
+                V_ROT_V:  with_variant[PL_M +: LN] = rot_v;
+                V_ROT_UV: with_variant[PL_M +: LN] = rot_u | rot_v;
+                default: ;
+            endcase
         end
     endfunction
 
@@ -1267,24 +1296,36 @@ module fast_ctrl #(
     wire unused_r_jumps = ^{r0_5[JW-1:0], r1_5[JW-1:0], s5[SWD-1:JW]};
 
     // ------------------------------------------------------------------------
-    // P4a, P4b, P5: the candidates' micro-ops, then their physical addresses
+    // P4a1, P4a2, P4b, P5: the candidates' micro-ops, then their physical
+    // addresses
     // ------------------------------------------------------------------------
     localparam integer CODE_W = 2 * LN + 6 + PLN_N;   // mn, mp, inv, latches, ns, box, open
     wire [CODE_W-1:0] code_c = {mn_c, mp_c, inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c,
                                 box_corner_c, pln_open_c};
+
+    reg [SWD-1:0]    a0_e, a1_e;
+    reg [PLVW-1:0]   plan0_e, plan1_e;
+    reg [CODE_W-1:0] code_e;
+    always @(posedge clk) begin
+        a0_e    <= a0_c;
+        a1_e    <= a1_c;
+        plan0_e <= plan(a0_c[J_ST +: SW]);
+        plan1_e <= plan(a1_c[J_ST +: SW]);
+        code_e  <= code_c;
+    end
 
     reg [SWD-1:0]    a0_d, a1_d;
     reg [PLW-1:0]    plan0_d, plan1_d;
     reg [SRCW-1:0]   opd0_d, opd1_d;
     reg [CODE_W-1:0] code_d;
     always @(posedge clk) begin
-        a0_d    <= a0_c;
-        a1_d    <= a1_c;
-        plan0_d <= plan(a0_c[J_ST +: SW], a0_c[J_CALL +: CALLW], a0_c[S_ROT +: RAW]);
-        plan1_d <= plan(a1_c[J_ST +: SW], a1_c[J_CALL +: CALLW], a1_c[S_ROT +: RAW]);
-        opd0_d  <= operands(a0_c);
-        opd1_d  <= operands(a1_c);
-        code_d  <= code_c;
+        a0_d    <= a0_e;
+        a1_d    <= a1_e;
+        plan0_d <= with_variant(plan0_e, a0_e[J_CALL +: CALLW], a0_e[S_ROT +: RAW]);
+        plan1_d <= with_variant(plan1_e, a1_e[J_CALL +: CALLW], a1_e[S_ROT +: RAW]);
+        opd0_d  <= operands(a0_e);
+        opd1_d  <= operands(a1_e);
+        code_d  <= code_e;
     end
 
     reg [SWD-1:0]    a0_u, a1_u;
@@ -1327,7 +1368,7 @@ module fast_ctrl #(
                code_u};
 
     // ------------------------------------------------------------------------
-    // Carried to C1 (positions 10 .. LAT+2)
+    // Carried to C1 (positions 11 .. LAT+2)
     // ------------------------------------------------------------------------
     wire [BW-1:0] bc;
     fast_delay #(.WIDTH(BW), .STAGES(CARRY1)) u_carry1 (.clk(clk), .d(b_p), .q(bc));

@@ -311,21 +311,33 @@ module fast_pp #(
         .q   ({res_v, res_tag})
     );
 
+    // out_valid is a register (the queue holds a result), so that a top's
+    // logic around many processors starts its paths at a flip-flop: its
+    // next value from the entry count's registered flags, the result
+    // arriving, and the take (out_ready the only input before it).
     reg [RES_W+95:0]   outq [0:(1 << (CTX_BITS + 1))-1];
-    reg [CTX_BITS+1:0] outq_rd, outq_wr;   // one bit more than the index: full != empty
+    reg [CTX_BITS:0]   outq_rd, outq_wr;   // 2K entries
+    reg [CTX_BITS+1:0] outq_n;             // entries: 0 .. 2K
+    reg                outq_valid;         // outq_n != 0
+    wire outq_many = |outq_n[CTX_BITS+1:1];          // 2 or more
+    wire outq_one  = (outq_n == {{(CTX_BITS + 1){1'b0}}, 1'b1});
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
-            outq_rd <= {(CTX_BITS + 2){1'b0}};
-            outq_wr <= {(CTX_BITS + 2){1'b0}};
+            outq_rd    <= {(CTX_BITS + 1){1'b0}};
+            outq_wr    <= {(CTX_BITS + 1){1'b0}};
+            outq_n     <= {(CTX_BITS + 2){1'b0}};
+            outq_valid <= 1'b0;
         end else begin
             if (res_v)    outq_wr <= outq_wr + 1'b1;
             if (out_take) outq_rd <= outq_rd + 1'b1;
+            outq_n     <= outq_n + {{(CTX_BITS + 1){1'b0}}, res_v} - {{(CTX_BITS + 1){1'b0}}, out_take};
+            outq_valid <= res_v || outq_many || (outq_one && !out_take);
         end
     end
-    always @(posedge clk) if (res_v) outq[outq_wr[CTX_BITS:0]] <= {res_tag, rd_a};
+    always @(posedge clk) if (res_v) outq[outq_wr] <= {res_tag, rd_a};
 
-    assign out_valid = (outq_rd != outq_wr);
-    assign {out_x, out_y, out_ctx, out_cycles, out_rgb} = outq[outq_rd[CTX_BITS:0]];
+    assign out_valid = outq_valid;
+    assign {out_x, out_y, out_ctx, out_cycles, out_rgb} = outq[outq_rd];
 
 `ifdef PP_TRACE
     // The pixel of each write: its context's entry (a context's writes all

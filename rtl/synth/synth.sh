@@ -20,8 +20,9 @@
 #   rtl/synth/synth.sh xc6v fast-pp exact  # the fast pixel processor (rtl/fast/fast_pp.v:
 #                                          # fast_ctrl, fast_regfile, fast_alu; its ports
 #                                          # as they are, 293 bits, which fit the ECP5
-#                                          # package pnr_ecp5.sh uses); a 4th argument
-#                                          # noexp builds it without fp_exp (EXPOSURE = 0)
+#                                          # package pnr_ecp5.sh uses; xc6v with
+#                                          # -nowidelut); a 4th argument noexp builds
+#                                          # it without fp_exp (EXPOSURE = 0)
 #   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
 #                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
@@ -131,6 +132,12 @@ fast-pp)
     # wrapper for ecp5: the 293 port bits fit the package's 365 I/O.
     read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/pp/mem_ctrl.v rtl/fast/*.v)"
     params="$params -chparam EXPOSURE $exposure"
+    # Virtex-6: LUTs of at most 6 inputs (-nowidelut). With wide LUTs ABC
+    # maps some of the controller's decodes as LUT7/LUT8 chains (MUXF7,
+    # MUXF8) whose depth changes with the netlist around them (docs/fast.md,
+    # "The processor, measured"); LUT6 alone keeps every path as deep as
+    # its LUT levels, the measure report.py's estimate is made for.
+    if [ "$device" = xc6v ]; then synth="$synth -nowidelut"; fi
     ;;
 fast-regfile)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
