@@ -143,11 +143,10 @@ impl TopOptions {
     /// with the options' timeout and fault.
     pub fn build_for(&self, scene: &Scene, options: &CosimOptions) -> Result<Top, PpError> {
         let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
-        let mut t = match (self.processor, self.through_top, self.exp_unit) {
-            (ProcessorKind::Compact, ..) => Top::new(self.procs, recip, sqrt),
-            (ProcessorKind::Fast, false, true) => Top::new_fast(recip, sqrt),
-            (ProcessorKind::Fast, false, false) => Top::new_fast_without_exp(recip, sqrt),
-            (ProcessorKind::Fast, true, _) => Top::new_fast_procs(self.procs, recip, sqrt),
+        let mut t = match (self.processor, self.through_top) {
+            (ProcessorKind::Compact, _) => Top::new(self.procs, recip, sqrt),
+            (ProcessorKind::Fast, false) => Top::new_fast_variant(recip, sqrt, self.exp_unit),
+            (ProcessorKind::Fast, true) => Top::new_fast_procs(self.procs, recip, sqrt),
         }?;
         t.set_timeout_cycles(options.timeout_cycles);
         t.set_fault(options.fault, u32::MAX);

@@ -162,47 +162,43 @@ impl Top {
     /// (`golden::micro::barrel`), from the turn that took it to its done
     /// turn.
     pub fn new_fast(recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let built = ffi::new_fast_top(recip.code(), sqrt.code(), true);
-        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
+        Top::new_fast_variant(recip, sqrt, true)
     }
 
     /// [`Top::new_fast`] built without the exponential (`EXPOSURE = 0`),
     /// as a scene without exposure needs: [`Top::load_scene`] refuses a
     /// scene with one.
     pub fn new_fast_without_exp(recip: Method, sqrt: Method) -> Result<Top, PpError> {
-        let built = ffi::new_fast_top(recip.code(), sqrt.code(), false);
-        Top::without_exp(Top::around(
-            built,
-            SlotLayout::FastContexts,
-            FAST_CONTEXTS,
-            recip,
-            sqrt,
-        ))
+        Top::new_fast_variant(recip, sqrt, false)
     }
 
-    /// [`Top::new_fast`] (or, `exp_unit` false, [`Top::new_fast_without_exp`])
-    /// on the variant verilated with `--trace-fst`, for the waveform
-    /// window ([`crate::wave`]).
+    /// [`Top::new_fast`] if `exp_unit`, else [`Top::new_fast_without_exp`].
+    pub fn new_fast_variant(recip: Method, sqrt: Method, exp_unit: bool) -> Result<Top, PpError> {
+        let built = ffi::new_fast_top(recip.code(), sqrt.code(), exp_unit);
+        Top::fast_around(built, recip, sqrt, exp_unit)
+    }
+
+    /// [`Top::new_fast_variant`] on the variant verilated with
+    /// `--trace-fst`, for the waveform window ([`crate::wave`]).
     pub(crate) fn new_fast_wave(
         recip: Method,
         sqrt: Method,
         exp_unit: bool,
     ) -> Result<Top, PpError> {
         let built = ffi::new_fast_wave_top(recip.code(), sqrt.code(), exp_unit);
-        let top = Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt);
-        if exp_unit {
-            top
-        } else {
-            Top::without_exp(top)
-        }
+        Top::fast_around(built, recip, sqrt, exp_unit)
     }
 
-    /// `top` marked as built without the exponential.
-    fn without_exp(top: Result<Top, PpError>) -> Result<Top, PpError> {
-        top.map(|t| Top {
-            exp_unit: false,
-            ..t
-        })
+    /// The fast processor `built`, its contexts the slots, with or without
+    /// its exponential.
+    fn fast_around(
+        built: Result<UniquePtr<ffi::TopSim>, cxx::Exception>,
+        recip: Method,
+        sqrt: Method,
+        exp_unit: bool,
+    ) -> Result<Top, PpError> {
+        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
+            .map(|t| Top { exp_unit, ..t })
     }
 
     /// On a [`Top::new_fast_wave`] model, once: dumps the cycles

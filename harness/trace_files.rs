@@ -296,11 +296,7 @@ pub fn write_rtl(
             events
         }
         ProcessorKind::Fast => {
-            let mut rtl = if exp_unit {
-                Top::new_fast(recip, sqrt)?
-            } else {
-                Top::new_fast_without_exp(recip, sqrt)?
-            };
+            let mut rtl = Top::new_fast_variant(recip, sqrt, exp_unit)?;
             rtl.set_timeout_cycles(timeout_cycles);
             rtl.set_fault(fault, u32::MAX);
             let mut file = TraceFile::create(path, &header)?;
