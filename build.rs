@@ -276,6 +276,10 @@ const MUT_UNITS: [(&str, &str); 6] = [
 /// which the coverage build's cover points are made.
 const TRANSITIONS: &str = "rtl/cover/pp_ctrl.transitions";
 
+/// The transitions the fast controller's ring adds to [`TRANSITIONS`]
+/// (each argued in the file): its cover points are both tables'.
+const FAST_TRANSITIONS: &str = "rtl/cover/fast_ctrl.transitions";
+
 struct Verilator {
     bin: PathBuf,
     root: PathBuf,
@@ -412,15 +416,20 @@ fn run() -> Result<(), String> {
     let synth = env::var_os("CARGO_FEATURE_SYNTH_NETLIST").is_some();
     let mut flavours = vec![Flavour::Plain, Flavour::Wave];
     let mut pp_cov_sources = Vec::new();
+    let mut fast_cov_sources = Vec::new();
     if coverage {
         flavours.push(Flavour::Coverage);
-        let cover = out.join("pp_ctrl_cover.sv");
-        write_cover_module(&manifest, &cover)?;
-        pp_cov_sources = pp_sources
-            .iter()
-            .map(|p| p.strip_prefix(&manifest).unwrap_or(p).to_path_buf())
-            .chain(std::iter::once(cover))
-            .collect();
+        let relative = |sources: &[PathBuf], cover: &CoverModule| -> Result<Vec<PathBuf>, String> {
+            let file = out.join(format!("{}.sv", cover.name));
+            write_cover_module(&manifest, cover, &file)?;
+            Ok(sources
+                .iter()
+                .map(|p| p.strip_prefix(&manifest).unwrap_or(p).to_path_buf())
+                .chain(std::iter::once(file))
+                .collect())
+        };
+        pp_cov_sources = relative(&pp_sources, &PP_CTRL_COVER)?;
+        fast_cov_sources = relative(&fast_sources, &FAST_CTRL_COVER)?;
     }
     let mut pp_mut_sources = Vec::new();
     // The float units cut from the same mutated design, each beside the
@@ -629,6 +638,10 @@ fn run() -> Result<(), String> {
     // for the waveform window (harness::wave), compiled at -O0 like the
     // compact processor's.
     let fast_includes = vec![fast_dir.clone(), fp_dir.clone(), pp_dir.clone()];
+    // With the feature `coverage`, the fast processor once more with
+    // Verilator's coverage and the controller's cover points, from sources
+    // named relative to the package (FAST_PP_VARIANTS; none without it).
+    let fast_cov_table: &[(&str, &str, bool)] = if coverage { FAST_PP_VARIANTS } else { &[] };
     for (top, name, table, defines, what, flavour) in [
         (
             "fast_alu",
@@ -654,7 +667,21 @@ fn run() -> Result<(), String> {
             "processor (--trace-fst)",
             Flavour::Wave,
         ),
+        (
+            "fast_pp",
+            "fast_pp_cov",
+            fast_cov_table,
+            vec!["PP_TRACE", "PP_COVER"],
+            "processor (coverage)",
+            Flavour::Coverage,
+        ),
     ] {
+        let (includes, sources) = if flavour == Flavour::Coverage {
+            let rel = ["rtl/fast", "rtl/fp", "rtl/pp"].map(PathBuf::from).to_vec();
+            (rel, &fast_cov_sources)
+        } else {
+            (fast_includes.clone(), &fast_sources)
+        };
         let variants = fast_variants(&methods, name, table)?;
         models.extend(
             variants
@@ -668,8 +695,8 @@ fn run() -> Result<(), String> {
                         ("EXPOSURE", u32::from(*exposure)),
                     ],
                     defines: defines.clone(),
-                    includes: fast_includes.clone(),
-                    sources: &fast_sources,
+                    includes: includes.clone(),
+                    sources,
                     flavour,
                 }),
         );
@@ -1376,13 +1403,75 @@ fn fnv1a64(path: &Path) -> Result<String, String> {
     Ok(format!("{:016x}", h.finish()))
 }
 
-/// Writes the coverage build's `pp_ctrl_cover` module (instantiated by
-/// pp_ctrl.v under `PP_COVER`): one cover property per controller state,
-/// placed by a `line directive at the state's `define in rtl/pp/isa.vh, and
-/// one per possible transition of [`TRANSITIONS`], placed at its line of
-/// that table, so that Verilator's coverage.dat and the lcov report count
-/// each state and transition on the line that names it.
-fn write_cover_module(manifest: &Path, out: &Path) -> Result<(), String> {
+/// A controller's cover module: what build.rs writes for the coverage
+/// build, and how its points read the controller's state.
+struct CoverModule {
+    /// The module (`pp_ctrl_cover`, `fast_ctrl_cover`), instantiated by its
+    /// controller under `PP_COVER`.
+    name: &'static str,
+    /// The ports and any registers, after `module <name>`.
+    head: &'static str,
+    /// A state point's condition, `{id}` the state's number.
+    state: &'static str,
+    /// The transitions' tables: [`TRANSITIONS`] and, for the fast
+    /// controller, the ring's own ([`FAST_TRANSITIONS`]).
+    tables: &'static [&'static str],
+}
+
+/// The compact controller's: `st_q` this cycle's state, `st_d` the next.
+const PP_CTRL_COVER: CoverModule = CoverModule {
+    name: "pp_ctrl_cover",
+    head: "#(parameter integer SW = 9) (
+    // pp_ctrl's own signals, toggle-counted there.
+    /*verilator coverage_off*/
+    input wire clk, input wire rst_n,
+    input wire [SW-1:0] st_q, input wire [SW-1:0] st_d
+    /*verilator coverage_on*/
+);
+    wire turn = 1'b1;
+",
+    state: "st_q == {id}",
+    tables: &[TRANSITIONS],
+};
+
+/// The fast controller's: a state is entered at a context's turn (`st`,
+/// the issue register's), and a transition goes from the state of a
+/// context's last turn to that of this one, which only this module
+/// remembers (one state per context; no register of fast_ctrl's is read).
+const FAST_CTRL_COVER: CoverModule = CoverModule {
+    name: "fast_ctrl_cover",
+    head: "#(parameter integer SW = 9, parameter integer CTX_BITS = 5) (
+    // fast_ctrl's own signals, toggle-counted there.
+    /*verilator coverage_off*/
+    input wire clk, input wire rst_n, input wire sweeping,
+    input wire [CTX_BITS-1:0] turn_ctx, input wire [SW-1:0] st
+    /*verilator coverage_on*/
+);
+    /*verilator coverage_off*/
+    reg [SW-1:0]              last_q [0:(1 << CTX_BITS) - 1];
+    reg [(1 << CTX_BITS)-1:0] seen_q;
+    always @(posedge clk or negedge rst_n)
+        if (!rst_n) seen_q <= {(1 << CTX_BITS){1'b0}};
+        else if (!sweeping) seen_q[turn_ctx] <= 1'b1;
+    always @(posedge clk) if (!sweeping) last_q[turn_ctx] <= st;
+    // The context's last turn's state and this turn's.
+    wire [SW-1:0] st_q = last_q[turn_ctx];
+    wire [SW-1:0] st_d = st;
+    wire          turn = !sweeping && seen_q[turn_ctx];
+    /*verilator coverage_on*/
+",
+    state: "!sweeping && st == {id}",
+    tables: &[TRANSITIONS, FAST_TRANSITIONS],
+};
+
+/// Writes the coverage build's cover module `m` into `out`: one cover
+/// property per controller state, placed by a `line directive at the
+/// state's `define in rtl/pp/isa.vh, and one per possible transition of
+/// its tables, placed at its line there, so that Verilator's coverage.dat
+/// and the lcov report count each state and transition on the line that
+/// names it. A table made from another controller than today's is
+/// refused.
+fn write_cover_module(manifest: &Path, m: &CoverModule, out: &Path) -> Result<(), String> {
     let isa = "rtl/pp/isa.vh";
     let isa_text =
         fs::read_to_string(manifest.join(isa)).map_err(|e| format!("reading {isa}: {e}"))?;
@@ -1397,61 +1486,67 @@ fn write_cover_module(manifest: &Path, out: &Path) -> Result<(), String> {
         }
     }
     let id_of = |name: &str| states.iter().find(|s| s.0 == name).map(|s| s.1);
-    let table = fs::read_to_string(manifest.join(TRANSITIONS))
-        .map_err(|e| format!("reading {TRANSITIONS}: {e}"))?;
-    let hash = fnv1a64(&manifest.join("rtl/pp/pp_ctrl.v"))?;
-    let stale = || {
-        format!(
-            "{TRANSITIONS} was made from another rtl/pp/pp_ctrl.v (fnv1a64 now {hash}): \
-             run rtl/cover/transitions.sh (needs yosys) and commit the new table"
-        )
-    };
-    let recorded = table
-        .lines()
-        .find_map(|l| l.strip_prefix("# pp_ctrl.v fnv1a64 "))
-        .ok_or_else(stale)?;
-    if recorded.trim() != hash {
-        return Err(stale());
-    }
     let mut text = format!(
-        "// Generated by build.rs from {isa} and {TRANSITIONS} for the coverage\n\
+        "// Generated by build.rs from {isa} and {tables} for the coverage\n\
          // build (cargo feature `coverage`): the controller's state and transition\n\
          // cover points, each placed on the line that names it.\n\
          `default_nettype none\n\
-         module pp_ctrl_cover #(parameter integer SW = 9) (\n\
-         \x20   // pp_ctrl's own signals, toggle-counted there.\n\
-         \x20   /*verilator coverage_off*/\n\
-         \x20   input wire clk, input wire rst_n,\n\
-         \x20   input wire [SW-1:0] st_q, input wire [SW-1:0] st_d\n\
-         \x20   /*verilator coverage_on*/\n);\n"
+         module {name} {head}",
+        tables = m.tables.join(", "),
+        name = m.name,
+        head = m.head,
     );
     for (name, id, line) in &states {
+        let cond = m.state.replace("{id}", &id.to_string());
         text += &format!(
-            "`line {line} \"{isa}\" 0\n    s_{name}: cover property (@(posedge clk) disable iff (!rst_n) st_q == {id});\n"
+            "`line {line} \"{isa}\" 0\n    s_{name}: cover property (@(posedge clk) disable iff (!rst_n) {cond});\n"
         );
     }
-    for (i, line) in table.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
+    let mut pairs = BTreeSet::new();
+    for table in m.tables {
+        let text_of = fs::read_to_string(manifest.join(table))
+            .map_err(|e| format!("reading {table}: {e}"))?;
+        // The controller the table was made from: `# <file> fnv1a64 <hash>`.
+        let (file, recorded) = text_of
+            .lines()
+            .find_map(|l| {
+                let mut w = l.strip_prefix("# ")?.split_whitespace();
+                match (w.next(), w.next(), w.next()) {
+                    (Some(f), Some("fnv1a64"), Some(h)) => Some((f.to_string(), h.to_string())),
+                    _ => None,
+                }
+            })
+            .ok_or_else(|| format!("{table} names no controller (`# <file> fnv1a64 <hash>`)"))?;
+        let controller = ["rtl/pp", "rtl/fast"]
+            .iter()
+            .map(|d| manifest.join(d).join(&file))
+            .find(|p| p.exists())
+            .ok_or_else(|| format!("{table} was made from {file}, which rtl/ lacks"))?;
+        let hash = fnv1a64(&controller)?;
+        if recorded != hash {
+            return Err(format!(
+                "{table} was made from another {file} (fnv1a64 now {hash}): re-derive it \
+                 (rtl/cover/transitions.sh for pp_ctrl.transitions, needs yosys; the \
+                 table's header for the others) and commit the new table"
+            ));
         }
-        let bad = || {
-            format!(
-                "{TRANSITIONS}:{}: `{line}` is not two ISA state names",
-                i + 1
-            )
-        };
-        let (from, to) = line.split_once(' ').ok_or_else(bad)?;
-        let (a, b) = (
-            id_of(from.trim()).ok_or_else(bad)?,
-            id_of(to.trim()).ok_or_else(bad)?,
-        );
-        text += &format!(
-            "`line {} \"{TRANSITIONS}\" 0\n    t_{from}_to_{to}: cover property (@(posedge clk) disable iff (!rst_n) st_q == {a} && st_d == {b});\n",
-            i + 1,
-            from = from.trim(),
-            to = to.trim()
-        );
+        for (i, line) in text_of.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let bad = || format!("{table}:{}: `{line}` is not two ISA state names", i + 1);
+            let (from, to) = line.split_once(' ').ok_or_else(bad)?;
+            let (from, to) = (from.trim(), to.trim());
+            let (a, b) = (id_of(from).ok_or_else(bad)?, id_of(to).ok_or_else(bad)?);
+            if !pairs.insert((a, b)) {
+                return Err(format!("{table}:{}: {from} -> {to} is listed twice", i + 1));
+            }
+            text += &format!(
+                "`line {} \"{table}\" 0\n    t_{from}_to_{to}: cover property (@(posedge clk) disable iff (!rst_n) turn && st_q == {a} && st_d == {b});\n",
+                i + 1,
+            );
+        }
     }
     text += "endmodule\n`default_nettype wire\n";
     fs::write(out, text).map_err(|e| format!("writing {}: {e}", out.display()))

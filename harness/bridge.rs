@@ -312,6 +312,14 @@ pub(crate) mod ffi {
             exposure: bool,
         ) -> Result<UniquePtr<TopSim>>;
 
+        /// The same variant verilated with coverage (cargo feature
+        /// `coverage`); fails if it was not built.
+        fn new_fast_cov_top(
+            recip_method: u32,
+            sqrt_method: u32,
+            exposure: bool,
+        ) -> Result<UniquePtr<TopSim>>;
+
         /// Builds and resets the top of `procs` fast processors (rtl/top.v
         /// with FAST = 1) with these method codes, as a top whose
         /// processors are its processors' contexts (processor * 32 +
@@ -385,6 +393,10 @@ pub(crate) mod ffi {
         /// events' cycles (frame cycles as `open_wave`'s); nothing for a
         /// pixel the frame did not run, or on other models.
         fn wave_cycles(self: &TopSim, x: u16, y: u16, out: &mut Vec<u64>);
+
+        /// Writes the model's coverage counts to `path` in Verilator's
+        /// coverage.dat format; fails on a model built without coverage.
+        fn write_coverage(self: Pin<&mut TopSim>, path: &str) -> Result<()>;
 
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a

@@ -510,18 +510,6 @@ impl Drop for PixelProcessor {
         let Some(dir) = self.coverage.take() else {
             return;
         };
-        let path = crate::coverage::raw_file(&dir);
-        let written = path
-            .to_str()
-            .ok_or_else(|| "the path is not UTF-8".to_string())
-            .and_then(|p| {
-                self.inner
-                    .pin_mut()
-                    .write_coverage(p)
-                    .map_err(|e| e.what().to_string())
-            });
-        if let Err(e) = written {
-            eprintln!("rtcosim: coverage counts lost, {}: {e}", path.display());
-        }
+        crate::coverage::write_raw(&dir, |p| self.inner.pin_mut().write_coverage(p));
     }
 }

@@ -47,6 +47,7 @@ use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
 use std::collections::VecDeque;
+use std::path::PathBuf;
 
 /// The fast processor's pixel contexts (`rtl/fast/fast_pp.v`, `CTX_BITS`
 /// = 5): the barrel's K.
@@ -145,6 +146,9 @@ pub struct Top {
     pending: Vec<VecDeque<(u32, Vec<TraceEvent>)>>,
     /// Per processor: the results it has given since reset.
     given: Vec<u32>,
+    /// A coverage model's directory ([`crate::coverage`]): its counts are
+    /// written there when it is dropped.
+    coverage: Option<PathBuf>,
 }
 
 impl Top {
@@ -172,10 +176,22 @@ impl Top {
         Top::new_fast_variant(recip, sqrt, false)
     }
 
-    /// [`Top::new_fast`] if `exp_unit`, else [`Top::new_fast_without_exp`].
+    /// [`Top::new_fast`] if `exp_unit`, else [`Top::new_fast_without_exp`]:
+    /// its coverage model when coverage is on in this process
+    /// ([`crate::coverage::dir`]).
     pub fn new_fast_variant(recip: Method, sqrt: Method, exp_unit: bool) -> Result<Top, PpError> {
-        let built = ffi::new_fast_top(recip.code(), sqrt.code(), exp_unit);
-        Top::fast_around(built, recip, sqrt, exp_unit)
+        match crate::coverage::dir() {
+            None => {
+                let built = ffi::new_fast_top(recip.code(), sqrt.code(), exp_unit);
+                Top::fast_around(built, recip, sqrt, exp_unit)
+            }
+            Some(dir) => {
+                let built = ffi::new_fast_cov_top(recip.code(), sqrt.code(), exp_unit);
+                let mut top = Top::fast_around(built, recip, sqrt, exp_unit)?;
+                top.coverage = Some(dir);
+                Ok(top)
+            }
+        }
     }
 
     /// [`Top::new_fast_variant`] on the variant verilated with
@@ -197,8 +213,9 @@ impl Top {
         sqrt: Method,
         exp_unit: bool,
     ) -> Result<Top, PpError> {
-        Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)
-            .map(|t| Top { exp_unit, ..t })
+        let mut top = Top::around(built, SlotLayout::FastContexts, FAST_CONTEXTS, recip, sqrt)?;
+        top.exp_unit = exp_unit;
+        Ok(top)
     }
 
     /// On a [`Top::new_fast_wave`] model, once: dumps the cycles
@@ -271,6 +288,7 @@ impl Top {
             events: Vec::new(),
             pending: vec![VecDeque::new(); procs as usize],
             given: vec![0; procs as usize],
+            coverage: None,
         };
         top.set_timeout_cycles(DEFAULT_TIMEOUT_CYCLES);
         Ok(top)
@@ -598,5 +616,15 @@ fn model_error(pixel: Option<(u32, u32)>, message: impl ToString) -> PpError {
     PpError::Model {
         pixel,
         message: message.to_string(),
+    }
+}
+
+impl Drop for Top {
+    /// A coverage model writes its counts into its directory's `raw/`
+    /// ([`crate::coverage::write_raw`]).
+    fn drop(&mut self) {
+        if let Some(dir) = self.coverage.take() {
+            crate::coverage::write_raw(&dir, |p| self.inner.pin_mut().write_coverage(p));
+        }
     }
 }

@@ -748,8 +748,8 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
             "invalid value '65' for '--procs <N>'",
         ),
         (
-            &["--processor", "fast", "--coverage", "cov"],
-            "--processor fast have no coverage model",
+            &["--processor", "fast", "--procs", "2", "--coverage", "cov"],
+            "the top of --procs has no coverage model",
         ),
     ];
     for (args, message) in cases {

@@ -14,7 +14,17 @@ fn root() -> &'static Path {
 
 /// The table's (from, to) pairs by state name.
 fn table() -> (String, Vec<(String, String)>) {
-    let path = root().join("rtl/cover/pp_ctrl.transitions");
+    pairs_of("rtl/cover/pp_ctrl.transitions")
+}
+
+/// The pairs the fast controller's ring adds to the table.
+fn fast_table() -> Vec<(String, String)> {
+    pairs_of("rtl/cover/fast_ctrl.transitions").1
+}
+
+/// A transition table's text and its (from, to) pairs.
+fn pairs_of(file: &str) -> (String, Vec<(String, String)>) {
+    let path = root().join(file);
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let pairs = text
         .lines()
@@ -70,10 +80,41 @@ fn the_transition_table_was_proved_on_todays_controller() {
 
 /// The `# pp_ctrl.v fnv1a64 ...` line of today's controller.
 fn ctrl_hash_line() -> String {
-    let ctrl = std::fs::read(root().join("rtl/pp/pp_ctrl.v")).expect("pp_ctrl.v");
+    hash_line("rtl/pp/pp_ctrl.v")
+}
+
+/// The `# <name> fnv1a64 ...` line of today's `file`.
+fn hash_line(file: &str) -> String {
+    let bytes = std::fs::read(root().join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
     let mut h = fnv::FnvHasher::default();
-    h.write(&ctrl);
-    format!("# pp_ctrl.v fnv1a64 {:016x}", h.finish())
+    h.write(&bytes);
+    let name = Path::new(file)
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or(file);
+    format!("# {name} fnv1a64 {:016x}", h.finish())
+}
+
+#[test]
+fn the_fast_controllers_own_transitions_were_argued_on_todays_fast_controller() {
+    let (text, pairs) = pairs_of("rtl/cover/fast_ctrl.transitions");
+    let now = hash_line("rtl/fast/fast_ctrl.v");
+    assert!(
+        text.lines().any(|l| l == now),
+        "rtl/cover/fast_ctrl.transitions was argued on another rtl/fast/fast_ctrl.v (now \
+         `{now}`): re-read its argument against the new controller and update the hash"
+    );
+    // Its pairs are the ring's own: none is in the compact table; a done
+    // turn that takes a pixel is among them.
+    let (_, compact) = table();
+    for p in &pairs {
+        assert!(
+            isa::state_code(&p.0).is_some() && isa::state_code(&p.1).is_some(),
+            "{p:?}"
+        );
+        assert!(!compact.contains(p), "{p:?} is in pp_ctrl.transitions too");
+    }
+    assert!(pairs.contains(&("PIX_DONE".into(), "PRI_ITOF".into())));
 }
 
 #[test]
@@ -87,8 +128,21 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
          against the new controller and update the hash",
         path.display()
     );
-    let (_, pairs) = table();
-    let argued = rtcosim::coverage::unreachable().expect("the list reads");
+    // The fast controller's own list: argued on today's fast_ctrl.v, its
+    // groups' arguments in its header or the compact list's.
+    let fast_path = root().join(rtcosim::coverage::FAST_UNREACHABLE_PATH);
+    let fast_text = std::fs::read_to_string(&fast_path).expect("the fast list");
+    let fast_now = hash_line("rtl/fast/fast_ctrl.v");
+    assert!(
+        fast_text.lines().any(|l| l == fast_now),
+        "{} was argued on another rtl/fast/fast_ctrl.v (now `{fast_now}`): check each argument \
+         against the new controller and update the hash",
+        fast_path.display()
+    );
+    let text = text + &fast_text;
+    let (_, mut pairs) = table();
+    pairs.extend(fast_table());
+    let argued = rtcosim::coverage::unreachable().expect("the lists read");
     let mut seen = std::collections::BTreeSet::new();
     for t in &argued {
         assert!(
@@ -98,8 +152,9 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
             t.to
         );
         assert!(
-            seen.insert((&t.from, &t.to)),
-            "{} -> {} twice",
+            seen.insert((&t.controller, &t.from, &t.to)),
+            "{}: {} -> {} twice",
+            t.controller,
             t.from,
             t.to
         );
@@ -112,11 +167,13 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
         );
     }
     // What every pixel does is not argued away.
-    for (a, b) in [("IDLE", "PRI_ITOF"), ("PIX_DONE", "IDLE")] {
-        assert!(
-            !seen.contains(&(&a.to_string(), &b.to_string())),
-            "{a} -> {b}"
-        );
+    for c in ["pp_ctrl", "fast_ctrl"] {
+        for (a, b) in [("IDLE", "PRI_ITOF"), ("PIX_DONE", "IDLE")] {
+            assert!(
+                !seen.contains(&(&c.to_string(), &a.to_string(), &b.to_string())),
+                "{c}: {a} -> {b}"
+            );
+        }
     }
 }
 
@@ -217,17 +274,22 @@ mod built {
             .map(|p| p.count)
     }
 
-    #[test]
-    fn each_pixel_is_one_start_and_one_end_transition_and_every_point_is_in_the_report() {
-        let (_one, dir) = coverage_into("cov");
-        let scene = rtcosim::scenes::load_with(
+    /// The reference scene at 40x30.
+    fn reference_40x30() -> golden::scene::Scene {
+        rtcosim::scenes::load_with(
             "reference",
             rtcosim::scenes::Overrides {
                 size: Some((40, 30)),
                 ..Default::default()
             },
         )
-        .expect("scene");
+        .expect("scene")
+    }
+
+    #[test]
+    fn each_pixel_is_one_start_and_one_end_transition_and_every_point_is_in_the_report() {
+        let (_one, dir) = coverage_into("cov");
+        let scene = reference_40x30();
         let window = Window::new(10, 10, 6, 4);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
@@ -260,6 +322,68 @@ mod built {
             "rtl/pp/alu.v",
             "rtl/fp/fp_add.v",
             "rtl/fp/fp_sqrt.v",
+        ] {
+            assert!(
+                done.summary.files.iter().any(|s| s.file == f),
+                "{f} has no points"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The fast processor's coverage model: a take is a transition into
+    /// PRI_ITOF at a context's next turn, from IDLE or from PIX_DONE (the
+    /// ring's own), and a pixel's done turn is PIX_DONE's state point.
+    #[test]
+    fn the_fast_processor_counts_one_take_per_pixel_and_has_every_point() {
+        let (_one, dir) = coverage_into("cov-fast");
+        let scene = reference_40x30();
+        // More pixels than contexts, so that done turns take the next.
+        let window = Window::new(0, 10, 40, 2);
+        let report = cosim::run_top(
+            &scene,
+            window,
+            &CosimOptions::default(),
+            &cosim::TopOptions::fast(),
+            &|_| {},
+        )
+        .expect("run");
+        assert!(report.passed(), "{report}");
+        let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");
+        let data = coverage::collect(&dir.join("coverage.dat")).expect("merged");
+        let fast = |a: &str, b: &str| {
+            data.points()
+                .find(|p| p.module == "fast_ctrl_cover" && p.transition() == Some((a, b)))
+                .map(|p| p.count)
+                .unwrap_or_else(|| panic!("no fast point for {a} -> {b}"))
+        };
+        let (idle, done_take) = (fast("IDLE", "PRI_ITOF"), fast("PIX_DONE", "PRI_ITOF"));
+        assert_eq!(idle + done_take, window.pixels());
+        assert!(done_take > 0, "no done turn took a pixel");
+        let pix_done = data
+            .points()
+            .find(|p| p.module == "fast_ctrl_cover" && p.state() == Some("PIX_DONE"))
+            .map(|p| p.count);
+        assert_eq!(pix_done, Some(window.pixels()));
+        // One point per line of both tables and per state. (Counted by
+        // module: the tests outside this module that build compact
+        // processors run beside this one, and coverage is on for the whole
+        // process.)
+        let (_, mut pairs) = table();
+        pairs.extend(fast_table());
+        let points = |kind: Kind| {
+            data.points()
+                .filter(|p| p.module == "fast_ctrl_cover" && p.kind == kind)
+                .count()
+        };
+        assert_eq!(points(Kind::Transition), pairs.len());
+        assert_eq!(points(Kind::State), isa::STATES.len());
+        assert!(done.summary.argued_but_taken.is_empty());
+        for f in [
+            "rtl/fast/fast_ctrl.v",
+            "rtl/fast/fast_alu.v",
+            "rtl/fast/fast_regfile.v",
+            "rtl/fast/fast_fp_exp.v",
         ] {
             assert!(
                 done.summary.files.iter().any(|s| s.file == f),

@@ -149,10 +149,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     if args.stall > 0 && args.procs.is_none() && !fast {
         anyhow::bail!("--stall holds back a result stream: it needs --procs or --processor fast");
     }
-    if args.coverage.coverage.is_some() && (args.procs.is_some() || fast) {
+    if args.coverage.coverage.is_some() && args.procs.is_some() {
         anyhow::bail!(
-            "--coverage measures the compact pixel processor run bare; --procs and --processor \
-             fast have no coverage model: drop one of them"
+            "--coverage measures a pixel processor run bare (the compact one, or --processor \
+             fast); the top of --procs has no coverage model: drop one of them"
         );
     }
     args.coverage.enable()?;

@@ -70,12 +70,6 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
     }
-    if args.coverage.coverage.is_some() && args.processor == ProcessorKind::Fast {
-        anyhow::bail!(
-            "--coverage measures the compact pixel processor; the fast one has no coverage model: \
-             drop --coverage or --processor fast"
-        );
-    }
     args.coverage.enable()?;
     let campaign = Campaign {
         processor: args.processor.name().to_string(),

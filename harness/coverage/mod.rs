@@ -20,7 +20,10 @@ pub mod dat;
 mod summary;
 
 pub use dat::{CoverageData, Kind, Point};
-pub use summary::{unreachable, Argued, FileSummary, KindSummary, Summary, UNREACHABLE_PATH};
+pub use summary::{
+    unreachable, Argued, FileSummary, KindSummary, Summary, TransitionPoint, FAST_UNREACHABLE_PATH,
+    UNREACHABLE_PATH,
+};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -114,6 +117,21 @@ pub(crate) fn raw_file(dir: &Path) -> PathBuf {
     ))
 }
 
+/// Writes one coverage model's counts into `dir/raw/` ([`raw_file`])
+/// through `write` (the model's `write_coverage`). Called when the model
+/// is dropped, where a failure cannot be returned: it is reported on
+/// stderr with the file whose counts were lost.
+pub(crate) fn write_raw(dir: &Path, write: impl FnOnce(&str) -> Result<(), cxx::Exception>) {
+    let path = raw_file(dir);
+    let written = path
+        .to_str()
+        .ok_or_else(|| "the path is not UTF-8".to_string())
+        .and_then(|p| write(p).map_err(|e| e.what().to_string()));
+    if let Err(e) = written {
+        eprintln!("rtcosim: coverage counts lost, {}: {e}", path.display());
+    }
+}
+
 /// The counts under `path`: a coverage.dat file, or a directory's
 /// `raw/*.dat` (every model's counts), or, without those, its coverage.dat.
 pub fn collect(path: &Path) -> Result<CoverageData, CoverageError> {
@@ -173,10 +191,10 @@ impl Finished {
             s.lines_missed.len(),
             plural(s.lines_missed.len()),
         );
-        for (a, b, l) in &s.argued_but_taken {
+        for t in &s.argued_but_taken {
             text += &format!(
-                "  warning: {a} -> {b} (rtl/cover/pp_ctrl.transitions:{l}) was taken, but \
-                 {UNREACHABLE_PATH} argues it unreachable: the argument is wrong\n"
+                "  warning: {t} was taken, but {UNREACHABLE_PATH} or {FAST_UNREACHABLE_PATH} \
+                 argues it unreachable: the argument is wrong\n"
             );
         }
         for f in &self.files {
@@ -241,8 +259,8 @@ pub fn finish(inputs: &[PathBuf], out: &Path, html: bool) -> Result<Finished, Co
     std::fs::write(&dat, data.to_text()).map_err(io(&dat))?;
     files.push(dat.clone());
 
-    let argued = summary::unreachable().map_err(|(line, message)| CoverageError::Format {
-        path: source_root().join(UNREACHABLE_PATH),
+    let argued = summary::unreachable().map_err(|(path, line, message)| CoverageError::Format {
+        path: source_root().join(path),
         line,
         message,
     })?;

@@ -58,17 +58,36 @@ pub struct FileSummary {
 pub const UNREACHABLE_PATH: &str = "rtl/cover/pp_ctrl.unreachable";
 const UNREACHABLE_TEXT: &str = include_str!("../../rtl/cover/pp_ctrl.unreachable");
 
-/// A transition argued unreachable: from, to, the argument's group.
+/// The transitions of the compact controller's table that the fast
+/// controller's ring cannot take, beyond [`UNREACHABLE_PATH`]'s (which hold
+/// for both: they are invariants of the ISA's program that both implement):
+/// `rtl/cover/fast_ctrl.unreachable`.
+pub const FAST_UNREACHABLE_PATH: &str = "rtl/cover/fast_ctrl.unreachable";
+const FAST_UNREACHABLE_TEXT: &str = include_str!("../../rtl/cover/fast_ctrl.unreachable");
+
+/// A transition argued unreachable: the controller (`pp_ctrl`,
+/// `fast_ctrl`), from, to, the argument's group.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Argued {
+    pub controller: String,
     pub from: String,
     pub to: String,
     pub group: String,
 }
 
-/// Parses a list of transitions argued unreachable (`FROM TO GROUP` per
-/// line, `#` comments); an error names the line.
-pub fn parse_unreachable(text: &str) -> Result<Vec<Argued>, (usize, String)> {
+impl Argued {
+    /// The same argument for `controller`.
+    pub fn on(&self, controller: &str) -> Argued {
+        Argued {
+            controller: controller.into(),
+            ..self.clone()
+        }
+    }
+}
+
+/// Parses a list of `controller`'s transitions argued unreachable (`FROM
+/// TO GROUP` per line, `#` comments); an error names the line.
+pub fn parse_unreachable(text: &str, controller: &str) -> Result<Vec<Argued>, (usize, String)> {
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -77,6 +96,7 @@ pub fn parse_unreachable(text: &str) -> Result<Vec<Argued>, (usize, String)> {
         }
         match line.split_whitespace().collect::<Vec<_>>()[..] {
             [from, to, group] => out.push(Argued {
+                controller: controller.into(),
                 from: from.into(),
                 to: to.into(),
                 group: group.into(),
@@ -87,9 +107,67 @@ pub fn parse_unreachable(text: &str) -> Result<Vec<Argued>, (usize, String)> {
     Ok(out)
 }
 
-/// The committed list, [`UNREACHABLE_PATH`].
-pub fn unreachable() -> Result<Vec<Argued>, (usize, String)> {
-    parse_unreachable(UNREACHABLE_TEXT)
+/// The committed lists: [`UNREACHABLE_PATH`]'s for both controllers and
+/// [`FAST_UNREACHABLE_PATH`]'s for the fast one. An error names the file
+/// and the line.
+pub fn unreachable() -> Result<Vec<Argued>, (&'static str, usize, String)> {
+    let named = |path| move |(line, message)| (path, line, message);
+    let mut all =
+        parse_unreachable(UNREACHABLE_TEXT, "pp_ctrl").map_err(named(UNREACHABLE_PATH))?;
+    let both: Vec<Argued> = all.iter().map(|a| a.on("fast_ctrl")).collect();
+    all.extend(both);
+    all.extend(
+        parse_unreachable(FAST_UNREACHABLE_TEXT, "fast_ctrl")
+            .map_err(named(FAST_UNREACHABLE_PATH))?,
+    );
+    Ok(all)
+}
+
+/// A transition point of the coverage build: its controller, its states,
+/// and the table line that names it.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct TransitionPoint {
+    pub controller: String,
+    pub from: String,
+    pub to: String,
+    pub table: String,
+    pub line: u32,
+}
+
+impl TransitionPoint {
+    fn of(p: &super::Point) -> Option<TransitionPoint> {
+        let (from, to) = p.transition()?;
+        Some(TransitionPoint {
+            controller: controller_of(p.module).to_string(),
+            from: from.into(),
+            to: to.into(),
+            table: p.file.into(),
+            line: p.line,
+        })
+    }
+
+    fn json(&self) -> Value {
+        json!({
+            "controller": self.controller, "from": self.from, "to": self.to,
+            "table": self.table, "table_line": self.line,
+        })
+    }
+}
+
+impl std::fmt::Display for TransitionPoint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: {} -> {} ({}:{})",
+            self.controller, self.from, self.to, self.table, self.line
+        )
+    }
+}
+
+/// The controller a cover point's module belongs to: `pp_ctrl_cover` is
+/// pp_ctrl's.
+fn controller_of(module: &str) -> &str {
+    module.strip_suffix("_cover").unwrap_or(module)
 }
 
 /// A coverage database summed up.
@@ -99,17 +177,19 @@ pub struct Summary {
     pub kinds: Vec<(Kind, KindSummary)>,
     /// Per source file, by name.
     pub files: Vec<FileSummary>,
-    /// Controller states never entered.
+    /// Controller states never entered (`controller: STATE`, the
+    /// controller's name left out when only one was measured).
     pub states_missed: Vec<String>,
-    /// Possible transitions (rtl/cover/pp_ctrl.transitions) never taken
-    /// and not argued unreachable: (from, to, the table's line).
-    pub transitions_missed: Vec<(String, String, u32)>,
-    /// Transitions never taken that are argued unreachable: (the argument,
-    /// the table's line).
-    pub transitions_argued: Vec<(Argued, u32)>,
+    /// Possible transitions (rtl/cover/pp_ctrl.transitions, and for the
+    /// fast controller rtl/cover/fast_ctrl.transitions) never taken and
+    /// not argued unreachable.
+    pub transitions_missed: Vec<TransitionPoint>,
+    /// Transitions never taken that are argued unreachable, with the
+    /// argument's group.
+    pub transitions_argued: Vec<(TransitionPoint, String)>,
     /// Transitions argued unreachable that a run took: the argument is
-    /// wrong (from, to, the table's line).
-    pub argued_but_taken: Vec<(String, String, u32)>,
+    /// wrong.
+    pub argued_but_taken: Vec<TransitionPoint>,
     /// Lines and branches never run: (file, line, what).
     pub lines_missed: Vec<(String, u32, String)>,
     /// Bits that never toggled, per module: (module, bits).
@@ -119,7 +199,17 @@ pub struct Summary {
 impl Summary {
     /// `data` summed up; `argued` ([`unreachable`]) sets transitions apart.
     pub fn of(data: &CoverageData, argued: &[Argued]) -> Summary {
-        let argument = |a: &str, b: &str| argued.iter().find(|t| t.from == a && t.to == b);
+        let argument = |t: &TransitionPoint| {
+            argued
+                .iter()
+                .find(|a| a.controller == t.controller && a.from == t.from && a.to == t.to)
+        };
+        // One controller's states are named bare, two's with the controller.
+        let controllers: std::collections::BTreeSet<&str> = data
+            .points()
+            .filter(|p| p.kind == Kind::State)
+            .map(|p| controller_of(p.module))
+            .collect();
         let mut kinds: BTreeMap<Kind, KindSummary> = BTreeMap::new();
         let mut files: BTreeMap<String, FileSummary> = BTreeMap::new();
         let mut s = Summary::default();
@@ -143,18 +233,24 @@ impl Summary {
                 _ => {}
             }
             if p.count > 0 {
-                if let Some((a, b)) = p.transition().filter(|(a, b)| argument(a, b).is_some()) {
-                    s.argued_but_taken.push((a.into(), b.into(), p.line));
+                if let Some(t) = TransitionPoint::of(&p).filter(|t| argument(t).is_some()) {
+                    s.argued_but_taken.push(t);
                 }
                 continue;
             }
             match p.kind {
-                Kind::State => s.states_missed.extend(p.state().map(str::to_string)),
+                Kind::State => s.states_missed.extend(p.state().map(|st| {
+                    if controllers.len() > 1 {
+                        format!("{}: {st}", controller_of(p.module))
+                    } else {
+                        st.to_string()
+                    }
+                })),
                 Kind::Transition => {
-                    if let Some((a, b)) = p.transition() {
-                        match argument(a, b) {
-                            Some(t) => s.transitions_argued.push((t.clone(), p.line)),
-                            None => s.transitions_missed.push((a.into(), b.into(), p.line)),
+                    if let Some(t) = TransitionPoint::of(&p) {
+                        match argument(&t) {
+                            Some(a) => s.transitions_argued.push((t, a.group.clone())),
+                            None => s.transitions_missed.push(t),
                         }
                     }
                 }
@@ -174,9 +270,9 @@ impl Summary {
             .filter_map(|k| kinds.get(k).map(|v| (*k, *v)))
             .collect();
         s.files = files.into_values().collect();
-        s.transitions_missed.sort_by_key(|t| t.2);
-        s.transitions_argued.sort_by_key(|t| t.1);
-        s.argued_but_taken.sort_by_key(|t| t.2);
+        s.transitions_missed.sort();
+        s.transitions_argued.sort();
+        s.argued_but_taken.sort();
         s.lines_missed.sort();
         s.untoggled = untoggled.into_iter().collect();
         s
@@ -234,15 +330,15 @@ impl Summary {
                 "toggle": f.toggle.to_json(),
             })).collect::<Vec<_>>(),
             "states_missed": self.states_missed,
-            "transitions_missed": self.transitions_missed.iter().map(|(a, b, l)| json!({
-                "from": a, "to": b, "table_line": l,
-            })).collect::<Vec<_>>(),
-            "transitions_argued_unreachable": self.transitions_argued.iter().map(|(t, l)| json!({
-                "from": t.from, "to": t.to, "group": t.group, "table_line": l,
-            })).collect::<Vec<_>>(),
-            "argued_unreachable_but_taken": self.argued_but_taken.iter().map(|(a, b, l)| json!({
-                "from": a, "to": b, "table_line": l,
-            })).collect::<Vec<_>>(),
+            "transitions_missed": self.transitions_missed.iter().map(TransitionPoint::json)
+                .collect::<Vec<_>>(),
+            "transitions_argued_unreachable": self.transitions_argued.iter().map(|(t, group)| {
+                let mut j = t.json();
+                j["group"] = json!(group);
+                j
+            }).collect::<Vec<_>>(),
+            "argued_unreachable_but_taken": self.argued_but_taken.iter().map(TransitionPoint::json)
+                .collect::<Vec<_>>(),
             "lines_missed": self.lines_missed.iter().map(|(f, l, what)| json!({
                 "file": f, "line": l, "what": what,
             })).collect::<Vec<_>>(),
@@ -290,15 +386,16 @@ impl Summary {
                 let _ = writeln!(md, "- {l}");
             }
         };
-        let at =
-            |a: &str, b: &str, l: u32| format!("{a} -> {b} (rtl/cover/pp_ctrl.transitions:{l})");
         if !self.argued_but_taken.is_empty() {
             transitions(
                 &mut md,
-                format!("Argued unreachable ({UNREACHABLE_PATH}) but taken: the argument is wrong"),
+                format!(
+                    "Argued unreachable ({UNREACHABLE_PATH}, {FAST_UNREACHABLE_PATH}) but taken: \
+                     the argument is wrong"
+                ),
                 self.argued_but_taken
                     .iter()
-                    .map(|(a, b, l)| at(a, b, *l))
+                    .map(|t| t.to_string())
                     .collect(),
             );
         }
@@ -307,15 +404,18 @@ impl Summary {
             "Transitions never taken, not argued unreachable".into(),
             self.transitions_missed
                 .iter()
-                .map(|(a, b, l)| at(a, b, *l))
+                .map(|t| t.to_string())
                 .collect(),
         );
         transitions(
             &mut md,
-            format!("Transitions never taken, argued unreachable (the groups' arguments: {UNREACHABLE_PATH})"),
+            format!(
+                "Transitions never taken, argued unreachable (the groups' arguments: \
+                 {UNREACHABLE_PATH}, {FAST_UNREACHABLE_PATH})"
+            ),
             self.transitions_argued
                 .iter()
-                .map(|(t, l)| format!("{}: {}", at(&t.from, &t.to, *l), t.group))
+                .map(|(t, group)| format!("{t}: {group}"))
                 .collect(),
         );
         let _ = write!(
@@ -360,30 +460,36 @@ mod tests {
             + &transition("NORM_SCALE", "PIX_DONE", 39, 0)
             + &transition("POP_ADD", "ROOT_BLACK", 229, 2);
         let data = CoverageData::parse(&text, Path::new("t.dat")).expect("points");
-        let argued =
-            parse_unreachable("# two arguments\nHIT_CMP PIX_DONE U4\nPOP_ADD ROOT_BLACK U8\n")
-                .expect("a list");
+        let argued = parse_unreachable(
+            "# two arguments\nHIT_CMP PIX_DONE U4\nPOP_ADD ROOT_BLACK U8\n",
+            "pp_ctrl",
+        )
+        .expect("a list");
         let s = Summary::of(&data, &argued);
         assert_eq!(s.kind(Kind::Transition), KindSummary { hit: 2, total: 4 });
         // HIT_CMP -> PIX_DONE is out of the reachable figure; POP_ADD ->
         // ROOT_BLACK was taken, so it counts, and is named.
         assert_eq!(s.reachable_transitions(), KindSummary { hit: 2, total: 3 });
+        let named = |t: &TransitionPoint| (t.from.clone(), t.to.clone(), t.line);
         assert_eq!(
-            s.transitions_missed,
+            s.transitions_missed.iter().map(named).collect::<Vec<_>>(),
             [("NORM_SCALE".to_string(), "PIX_DONE".to_string(), 39)]
         );
         assert_eq!(s.transitions_argued.len(), 1);
         assert_eq!(
             (
-                s.transitions_argued[0].0.group.as_str(),
-                s.transitions_argued[0].1
+                s.transitions_argued[0].1.as_str(),
+                s.transitions_argued[0].0.line
             ),
             ("U4", 144)
         );
         assert_eq!(
-            s.argued_but_taken,
+            s.argued_but_taken.iter().map(named).collect::<Vec<_>>(),
             [("POP_ADD".to_string(), "ROOT_BLACK".to_string(), 229)]
         );
+        // An argument holds for its controller only.
+        let fast_argued: Vec<Argued> = argued.iter().map(|a| a.on("fast_ctrl")).collect();
+        assert_eq!(Summary::of(&data, &fast_argued).transitions_missed.len(), 2);
         let md = s.to_markdown();
         assert!(
             md.contains("the argument is wrong") && md.contains("HIT_CMP -> PIX_DONE"),
@@ -398,10 +504,12 @@ mod tests {
 
     #[test]
     fn the_committed_list_reads_and_a_bad_line_is_named() {
-        let list = unreachable().expect("rtl/cover/pp_ctrl.unreachable reads");
-        assert_eq!(list.len(), 50);
+        let list = unreachable().expect("the lists read");
+        let of = |c: &str| list.iter().filter(|a| a.controller == c).count();
+        assert_eq!(of("pp_ctrl"), 50);
+        assert_eq!(of("fast_ctrl"), 53);
         assert_eq!(
-            parse_unreachable("# c\nA B U1\nA B\n"),
+            parse_unreachable("# c\nA B U1\nA B\n", "pp_ctrl"),
             Err((3, "`A B` is not FROM TO GROUP".to_string()))
         );
     }

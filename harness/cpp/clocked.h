@@ -9,10 +9,15 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 
 #include "bare.h"
 #include "pp_wave.h"
 #include "verilated_owned.h"
+#if RTCOSIM_COVERAGE
+#include "verilated_cov.h"
+#endif
 
 namespace rtcosim {
 
@@ -48,6 +53,20 @@ protected:
     void reset_sequence() { reset_model(model()); }
     void scene_write(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
         write_scene_port(model(), cfg, addr, x, y, z);
+    }
+
+    // Writes the model's coverage counts (Verilator's coverage.dat format)
+    // to `file`; Cov: the model was verilated with coverage. Throws naming
+    // the model `name` if it was not.
+    template <bool Cov>
+    void write_counts(const char* name, const std::string& file) {
+#if RTCOSIM_COVERAGE
+        if constexpr (Cov) {
+            owned_.context->coveragep()->write(file.c_str());
+            return;
+        }
+#endif
+        throw std::runtime_error(std::string(name) + " was not verilated with coverage (writing " + file + ")");
     }
 
     Owned<M> owned_{W::kTraceEverOn};

@@ -70,6 +70,9 @@ public:
     // frame cycles as above; nothing for a pixel the frame did not run, or
     // on the other models.
     virtual void wave_cycles(std::uint16_t x, std::uint16_t y, rust::Vec<std::uint64_t>& out) const = 0;
+    // Writes the model's coverage counts (Verilator's coverage.dat format)
+    // to `path`; throws on a model verilated without coverage.
+    virtual void write_coverage(rust::Str path) = 0;
 };
 
 // Builds and resets the top verilated with `procs` processors and these
@@ -84,6 +87,10 @@ std::unique_ptr<TopSim> new_fast_top(std::uint32_t recip_method, std::uint32_t s
 // The same, verilated with --trace-fst, for the waveform window
 // (harness/wave.rs); throws if that variant was not built.
 std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
+
+// The same, verilated with coverage (cargo feature `coverage`); throws if
+// that variant was not built.
+std::unique_ptr<TopSim> new_fast_cov_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
 
 // Builds and resets the top of `procs` fast processors (rtl/top.v with
 // FAST = 1) verilated with these method codes; its slots are processor *

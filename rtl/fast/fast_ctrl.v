@@ -1447,6 +1447,17 @@ module fast_ctrl #(
     );
     always @(posedge clk) {s0, u0} <= back;
 
+`ifdef PP_COVER
+    // ------------------------------------------------------------------------
+    // Coverage build only (cargo feature `coverage`, never for synthesis): a
+    // cover point per state and per possible transition of a context, turn
+    // to turn, made by build.rs from rtl/cover/pp_ctrl.transitions and
+    // rtl/cover/fast_ctrl.transitions.
+    // ------------------------------------------------------------------------
+    fast_ctrl_cover #(.SW(SW), .CTX_BITS(CTX_BITS)) u_cover (
+        .clk(clk), .rst_n(rst_n), .sweeping(initial_sweep), .turn_ctx(turn_q), .st(st0));
+`endif
+
     // Static checks: the round trip fits the ring; the address placements
     // above hold for isa.vh's layout.
     localparam integer SPH_LAST = `ISA_REG_SPH0_C + (SPH_N - 1) * `ISA_DIM_SPH_STRIDE;
