@@ -112,6 +112,16 @@ pub enum Source {
     Interpolated(String),
 }
 
+impl Source {
+    /// `measured` or `interpolated`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Source::Measured(_) => "measured",
+            Source::Interpolated(_) => "interpolated",
+        }
+    }
+}
+
 /// The table: the tools, and a cost per build.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -144,6 +154,16 @@ impl CostTable {
     /// The committed table.
     pub fn builtin() -> Result<CostTable, CostError> {
         CostTable::parse(COSTS_TOML)
+    }
+
+    /// The committed table, parsed once per process.
+    pub fn builtin_ref() -> Result<&'static CostTable, CostError> {
+        static TABLE: std::sync::OnceLock<Result<CostTable, CostError>> =
+            std::sync::OnceLock::new();
+        TABLE
+            .get_or_init(CostTable::builtin)
+            .as_ref()
+            .map_err(Clone::clone)
     }
 
     /// A table from its TOML text, checked: each build once, every figure
@@ -183,6 +203,68 @@ impl CostTable {
             .iter()
             .find(|c| c.build == build)
             .ok_or(CostError::Missing(build))
+    }
+}
+
+/// The `STACK_DEPTH` of every build the table holds and the harness
+/// verilates: the RTL's default (`ISA_DIM_STK_COUNT`). A configuration of
+/// a smaller depth runs on it (the scene's `max_depth` limits the stack a
+/// pixel uses), and is costed as it.
+pub const BUILT_STACK_DEPTH: u32 = 8;
+
+/// A configuration on a device: the build it runs on, what that costs, the
+/// device filled with it, and its frames a second.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OnDevice {
+    pub cost: Cost,
+    pub filled: Filled,
+    pub frames_per_second: f64,
+}
+
+impl CostTable {
+    /// The build `processor` with `recip` and `sqrt` draws a scene on: the
+    /// table's [`BUILT_STACK_DEPTH`], and without the exponential only where
+    /// the scene has no exposure and the table holds such a build (the
+    /// fast processor's; the compact one always has it).
+    pub fn build_for(
+        &self,
+        processor: ProcessorKind,
+        recip: Method,
+        sqrt: Method,
+        exposure: bool,
+    ) -> Result<&Cost, CostError> {
+        let build = |exposure| Build {
+            processor,
+            recip,
+            sqrt,
+            stack_depth: BUILT_STACK_DEPTH,
+            exposure,
+        };
+        if !exposure {
+            if let Ok(c) = self.cost(build(false)) {
+                return Ok(c);
+            }
+        }
+        self.cost(build(true))
+    }
+
+    /// [`CostTable::build_for`] on `device`, filled, drawing a frame that
+    /// one processor takes `frame_cycles` for.
+    pub fn on_device(
+        &self,
+        device: &Device,
+        processor: ProcessorKind,
+        (recip, sqrt): (Method, Method),
+        exposure: bool,
+        frame_cycles: u64,
+    ) -> Result<OnDevice, CostError> {
+        let cost = self.build_for(processor, recip, sqrt, exposure)?;
+        let filled = device.fill(cost);
+        Ok(OnDevice {
+            cost: cost.clone(),
+            filled,
+            frames_per_second: filled.frames_per_second(frame_cycles),
+        })
     }
 }
 

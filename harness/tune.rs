@@ -193,6 +193,7 @@ pub fn tune(
 ) -> Result<Tuned, TuneError> {
     let target = check_target(target)?;
     let (speedups, refused) = speedups_that_hold(scene);
+    sweep::check_costs(name, scene, &Grid::tune(speedups))?;
     let truth = sweep::reference_frame(name, scene)?;
     let swept = sweep::sweep_scene(
         name,
@@ -244,6 +245,7 @@ mod tests {
             scene: "s".into(),
             width: 1,
             height: 1,
+            processor: crate::processor::ProcessorKind::Compact,
             recip: recip.name(),
             sqrt: sqrt.name(),
             depth,
@@ -256,6 +258,13 @@ mod tests {
             frame_cycles,
             fps_at_clock_mhz: 1.0,
             clock_mhz: 1.0,
+            device_processors: 1,
+            device_binding: "LUTs".into(),
+            device_clock_mhz: 1.0,
+            device_fps: 1.0,
+            luts_per_processor: 1,
+            dsp_per_processor: 1,
+            cost_source: "measured".into(),
             mean_abs_error: 0.0,
             max_abs_error: 0.0,
             share_pixels_over_half: 0.0,

@@ -107,3 +107,47 @@ fn a_bad_or_incomplete_table_is_refused_naming_the_build() {
     let e = table(&entry("fast", true, "colour = 1\n")).unwrap_err();
     assert!(e.to_string().contains("colour"), "{e}");
 }
+
+/// Every build the sweep's grid needs is priced (each processor, each
+/// method pair, with the exponential), and each interpolated mixed pair
+/// follows the table's stated rule: per resource the larger of its
+/// processor's measured exact and fast pairs, the lower of their clocks.
+#[test]
+fn the_table_prices_every_swept_build_and_interpolates_by_its_rule() {
+    let t = CostTable::builtin().unwrap_or_else(|e| panic!("{e}"));
+    for processor in [ProcessorKind::Compact, ProcessorKind::Fast] {
+        let pair = |recip, sqrt| {
+            t.cost(Build {
+                recip,
+                sqrt,
+                ..build(processor, true)
+            })
+            .unwrap_or_else(|e| panic!("{e}"))
+        };
+        let (exact, fast) = (
+            pair(Method::Exact, Method::Exact),
+            pair(Method::Fast, Method::Fast),
+        );
+        for (recip, sqrt) in [(Method::Exact, Method::Fast), (Method::Fast, Method::Exact)] {
+            let mixed = pair(recip, sqrt);
+            if let Source::Interpolated(_) = mixed.source {
+                assert_eq!(mixed.luts, exact.luts.max(fast.luts), "{}", mixed.build);
+                assert_eq!(mixed.lut_memory, exact.lut_memory.max(fast.lut_memory));
+                assert_eq!(mixed.flip_flops, exact.flip_flops.max(fast.flip_flops));
+                assert_eq!(mixed.dsp48e1, exact.dsp48e1.max(fast.dsp48e1));
+                assert_eq!(mixed.bram36, exact.bram36.max(fast.bram36));
+                assert_eq!(mixed.fmax_mhz, exact.fmax_mhz.min(fast.fmax_mhz));
+            }
+        }
+    }
+    // Without exposure the fast processor's exact pair has its own build;
+    // the others fall back to the build with the exponential.
+    let noexp = t
+        .build_for(ProcessorKind::Fast, Method::Exact, Method::Exact, false)
+        .expect("priced");
+    assert!(!noexp.build.exposure);
+    let fallback = t
+        .build_for(ProcessorKind::Fast, Method::Fast, Method::Fast, false)
+        .expect("priced");
+    assert!(fallback.build.exposure);
+}

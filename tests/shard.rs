@@ -523,8 +523,8 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
     let swapped = damaged(
         "swapped.json",
         text0.replacen(
-            "\"reference\",\"8\",\"6\",\"exact\"",
-            "\"reference\",\"8\",\"6\",\"fast\"",
+            "\"reference\",\"8\",\"6\",\"compact\",\"exact\"",
+            "\"reference\",\"8\",\"6\",\"compact\",\"fast\"",
             1,
         ),
     );
@@ -533,7 +533,8 @@ fn merge_refuses_sets_that_are_not_one_run_naming_them() {
     sweep_shard(&a, 1, 3, &[]);
     let e = refused(&set.map(|p| p.as_path()));
     assert!(
-        e.contains("swapped.json: damaged: item") && e.contains("should be depth 1, recip exact"),
+        e.contains("swapped.json: damaged: item")
+            && e.contains("should be compact, depth 1, recip exact"),
         "{e}"
     );
 

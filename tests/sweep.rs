@@ -9,15 +9,17 @@ mod common;
 use common::{arg, rtcosim, scratch, text};
 use golden::fp::{ulp_distance, Method, UlpDistance};
 use golden::frame::Frame;
+use golden::micro::barrel::{self, PixelWork};
 use golden::scene::{RenderSettings, Scene, Speedups};
 use std::collections::HashMap;
 use std::path::Path;
 
 /// The documented column order (docs/accuracy.md, "Speed against accuracy").
-const HEADER: [&str; 27] = [
+const HEADER: [&str; 35] = [
     "scene",
     "width",
     "height",
+    "processor",
     "recip",
     "sqrt",
     "depth",
@@ -30,6 +32,13 @@ const HEADER: [&str; 27] = [
     "frame_cycles",
     "fps_at_clock_mhz",
     "clock_mhz",
+    "device_processors",
+    "device_binding",
+    "device_clock_mhz",
+    "device_fps",
+    "luts_per_processor",
+    "dsp_per_processor",
+    "cost_source",
     "mean_abs_error",
     "max_abs_error",
     "share_pixels_over_half",
@@ -147,25 +156,25 @@ fn errors(frame: &Frame, reference: &Frame) -> (f64, f64, f64, u32) {
 }
 
 /// The front by another algorithm than the sweep's pairwise test: sort by
-/// (cycles, error); walking up the cycles, a row is on the front iff its
-/// error is below every error of strictly fewer cycles and is the least at
-/// its own cycle count.
-fn front_by_sorting(points: &[(u64, f64)]) -> Vec<bool> {
+/// (device frames/s descending, error); walking down the frames/s, a row
+/// is on the front iff its error is below every error of strictly more
+/// frames/s and is the least at its own frames/s.
+fn front_by_sorting(points: &[(f64, f64)]) -> Vec<bool> {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| {
-        points[a]
+        points[b]
             .0
-            .cmp(&points[b].0)
+            .total_cmp(&points[a].0)
             .then(points[a].1.total_cmp(&points[b].1))
     });
     let mut on = vec![false; points.len()];
     let mut best_below = f64::INFINITY;
     let mut i = 0;
     while i < order.len() {
-        let cycles = points[order[i]].0;
+        let fps = points[order[i]].0;
         let least = points[order[i]].1;
         let mut j = i;
-        while j < order.len() && points[order[j]].0 == cycles {
+        while j < order.len() && points[order[j]].0 == fps {
             let e = points[order[j]].1;
             on[order[j]] = e == least && e < best_below;
             j += 1;
@@ -198,24 +207,27 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
     assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
     let (header, rows) = read_csv(&dir.join("sweep.csv"));
     assert_eq!(header, HEADER);
-    // The table says which clock its frames/s are at.
+    // The table says which clocks its frames/s are at.
     assert!(
-        stdout.contains("| frames/s at 8.94 MHz |")
-            && stdout.contains("frames/s: one pixel processor at 8.94 MHz, our pixel processor's post-route clock on ECP5"),
+        stdout.contains("| device frames/s | frames/s at 8.94 MHz |")
+            && stdout.contains(
+                "one processor's at 8.94 MHz, our pixel processor's post-route clock on ECP5"
+            ),
         "{stdout}"
     );
-    // 2 recip x 2 sqrt x 8 speed-up sets x (depth 1 with cutoff 0, depth 4
-    // with cutoffs 0 and 1/16); the reference scene refuses none.
-    assert_eq!(rows.len(), 96);
+    // 2 processors x 2 recip x 2 sqrt x 8 speed-up sets x (depth 1 with
+    // cutoff 0, depth 4 with cutoffs 0 and 1/16); the reference scene
+    // refuses none.
+    assert_eq!(rows.len(), 192);
     assert!(
-        stdout.contains("96 configurations run, 0 refused"),
+        stdout.contains("192 configurations run, 0 refused"),
         "{stdout}"
     );
     let cut = rows
         .iter()
         .filter(|r| r["weight_cutoff"] == "0.0625")
         .count();
-    assert_eq!(cut, 32, "depth 4 only");
+    assert_eq!(cut, 64, "depth 4 only");
 
     let deepest = scene(8, Method::Exact, Method::Exact, Speedups::default(), 0.0);
     let reference = golden::reference::render(&deepest, &|_| {});
@@ -224,17 +236,53 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
         let s = row_scene(r);
         let (frame, stats) = golden::micro::render(&s, &|_| {});
         let what = format!("{r:?}");
-        assert_eq!(num(r, "frame_cycles"), stats.cycles as f64, "{what}");
-        assert_eq!(num(r, "max_cycles"), stats.max_cycles as f64, "{what}");
-        assert!((num(r, "cycles_per_pixel") - stats.cycles as f64 / 432.0).abs() < 1e-9);
+        // The compact processor's cycles are its pixels' sum; the fast
+        // one's, the barrel rule's over the pixels in row order, plus the
+        // 4 cycles from the stream to the first take and from the last
+        // done turn to the result (docs/fast.md).
+        let frame_cycles = if r["processor"] == "fast" {
+            let work: Vec<PixelWork> = (0..18)
+                .flat_map(|y| (0..24).map(move |x| (x, y)))
+                .map(|(x, y)| PixelWork::of(&golden::micro::render_pixel(&s, x, y, |_, _| {})))
+                .collect();
+            barrel::run(32, &work).cycles + 4
+        } else {
+            assert_eq!(r["processor"], "compact");
+            assert_eq!(num(r, "max_cycles"), stats.max_cycles as f64, "{what}");
+            assert!((num(r, "cycles_per_pixel") - stats.cycles as f64 / 432.0).abs() < 1e-9);
+            stats.cycles
+        };
+        assert_eq!(num(r, "frame_cycles"), frame_cycles as f64, "{what}");
         // The default clock: our processor's 8.94 MHz after place and
         // route on ECP5 (docs/rtl.md, Synthesis), not the thesis' 34.74.
         assert_eq!(r["clock_mhz"], "8.94", "{what}");
         let fps = num(r, "fps_at_clock_mhz");
         assert!(
-            (fps - 8.94e6 / stats.cycles as f64).abs() < 1e-9 * fps,
+            (fps - 8.94e6 / frame_cycles as f64).abs() < 1e-9 * fps,
             "{what}"
         );
+        // The device: processors x clock / frame cycles, and for the exact
+        // pair the fills docs/rtl.md states (the compact processor: 10 by
+        // its 80 DSPs at 7.3 MHz; the fast one, built without its
+        // exponential since the reference scene has no exposure: 35 by
+        // block RAM at 112.9).
+        let device = num(r, "device_fps");
+        let want =
+            num(r, "device_processors") * num(r, "device_clock_mhz") * 1e6 / frame_cycles as f64;
+        assert!((device - want).abs() <= 1e-9 * want, "{what}");
+        if (&*r["recip"], &*r["sqrt"]) == ("exact", "exact") {
+            let fill = (
+                &*r["device_processors"],
+                &*r["device_binding"],
+                &*r["device_clock_mhz"],
+            );
+            if r["processor"] == "fast" {
+                assert_eq!(fill, ("35", "block RAM", "112.9"), "{what}");
+            } else {
+                assert_eq!(fill, ("10", "DSP48E1", "7.3"), "{what}");
+            }
+            assert_eq!(r["cost_source"], "measured");
+        }
         let (mean, max, share, ulps) = errors(&frame, &reference);
         assert!(
             (num(r, "mean_abs_error") - mean).abs() <= 1e-12 * mean.max(1.0),
@@ -275,10 +323,9 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
             );
         }
     }
-    // Depth 1 renders no reflection: it must be less accurate than depth 4.
-    let points: Vec<(u64, f64)> = rows
+    let points: Vec<(f64, f64)> = rows
         .iter()
-        .map(|r| (num(r, "frame_cycles") as u64, num(r, "mean_abs_error")))
+        .map(|r| (num(r, "device_fps"), num(r, "mean_abs_error")))
         .collect();
     let front = front_by_sorting(&points);
     for (r, on) in rows.iter().zip(&front) {
@@ -295,11 +342,21 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
     assert_eq!((png.width(), png.height()), (960, 640));
     let svg = std::fs::read_to_string(dir.join("chart-reference.svg")).expect("the SVG");
     assert!(svg.trim_start().starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-    assert!(svg.contains("thesis: depth 4, fp+ss") && svg.contains("Pareto front"));
+    assert!(
+        svg.contains("thesis: 2 processors, 28.86 MHz")
+            && svg.contains("Pareto front")
+            && svg.contains("fast processor"),
+        "{svg}"
+    );
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
             .expect("valid JSON");
-    assert_eq!(json["scenes"][0]["rows"].as_array().map(Vec::len), Some(96));
+    assert_eq!(
+        json["scenes"][0]["rows"].as_array().map(Vec::len),
+        Some(192)
+    );
+    assert_eq!(json["rtl"], true);
+    assert_eq!(json["device"], "Virtex-6 LX760");
     assert_eq!(json["clock_mhz"].as_f64(), Some(8.94));
     assert!(
         json["clock_source"]
@@ -346,10 +403,9 @@ fn an_injected_rtl_fault_fails_the_confirmation() {
     );
 }
 
-/// `--processor fast`: the front is confirmed on the fast processor (each
-/// configuration's pixels streamed through it, cycles by the barrel rule),
-/// the output and sweep.json say so, and a fault in it fails the
-/// confirmation.
+/// `--processor fast`: only the fast processor is swept, its front
+/// confirmed on it (each configuration's pixels streamed through it,
+/// cycles by the barrel rule), and a fault in it fails the confirmation.
 #[test]
 fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
     for fault in [None, Some("PRI_HALF:0x400")] {
@@ -375,11 +431,11 @@ fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
             text(&out.stderr)
         );
         assert!(
-            stdout
-                .contains("RTL: the front co-simulated on the fast processor (rtl/fast/fast_pp.v)"),
+            stdout.contains("RTL: each front row co-simulated on its own processor"),
             "{stdout}"
         );
         let (_, rows) = read_csv(&dir.join("sweep.csv"));
+        assert!(rows.iter().all(|r| r["processor"] == "fast"));
         let front: Vec<&Record> = rows.iter().filter(|r| r["pareto"] == "true").collect();
         assert!(!front.is_empty());
         let verdict = if fault.is_some() { "false" } else { "true" };
@@ -389,10 +445,6 @@ fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
                 .all(|r| r["rtl_confirmed"] == verdict && num(r, "rtl_pixels") >= 8.0),
             "{front:?}"
         );
-        let json: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
-                .expect("valid JSON");
-        assert_eq!(json["rtl_processor"], "fast");
     }
 }
 
@@ -416,13 +468,13 @@ fn refused_configurations_are_skipped_and_counted() {
     let stdout = text(&out.stdout);
     assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
     // box_room breaks the shadow shortcut's precondition: the 4 speed-up
-    // sets with it, of 8, for each of the 4 method pairs.
+    // sets with it, of 8, for each of the 4 method pairs and 2 processors.
     assert!(
-        stdout.contains("16 configurations run, 16 refused"),
+        stdout.contains("32 configurations run, 32 refused"),
         "{stdout}"
     );
     let (_, rows) = read_csv(&dir.join("sweep.csv"));
-    assert_eq!(rows.len(), 16);
+    assert_eq!(rows.len(), 32);
     assert!(rows
         .iter()
         .all(|r| r["shadow_shortcut"] == "false" && r["rtl_confirmed"].is_empty()));
@@ -430,7 +482,7 @@ fn refused_configurations_are_skipped_and_counted() {
         serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
             .expect("valid JSON");
     let skipped = json["scenes"][0]["skipped"].as_array().expect("skipped");
-    assert_eq!(skipped.len(), 16);
+    assert_eq!(skipped.len(), 32);
     assert!(skipped.iter().all(|s| s["reason"]
         .as_str()
         .is_some_and(|r| r.contains("shadow_shortcut"))));

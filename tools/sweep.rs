@@ -55,11 +55,12 @@ pub struct SweepArgs {
     /// Do not co-simulate the front on the RTL (the RTL columns stay empty).
     #[arg(long)]
     pub no_rtl: bool,
-    /// The pixel processor that confirms the front: compact
-    /// (rtl/pp/pixel_processor.v) or fast (rtl/fast/fast_pp.v, each
-    /// configuration's pixels streamed through it in chunks of 1,024).
-    #[arg(long, value_enum, default_value_t, conflicts_with = "no_rtl")]
-    pub processor: ProcessorKind,
+    /// Sweep one pixel processor only: compact (rtl/pp/pixel_processor.v)
+    /// or fast (rtl/fast/fast_pp.v). Default: both, each front row
+    /// co-simulated on its own processor (the fast one streams a
+    /// configuration's pixels through it in chunks of 1,024).
+    #[arg(long, value_enum)]
+    pub processor: Option<ProcessorKind>,
     /// Self-test: inject a bit flip into the RTL's writes in state STATE
     /// (see `cosim --fault`), so the confirmation must fail (exit 1).
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
@@ -111,7 +112,7 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         seed: args.seed,
         fault: args.fault.map(|f| f.to_string()),
         timeout_cycles: args.timeout_cycles,
-        processor: args.processor,
+        processors: args.processor.map(|p| vec![p]).unwrap_or_default(),
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     // Every path, the whole run's and a shard's, reads the scenes back
@@ -201,12 +202,7 @@ pub fn finish(
             bar.finish_and_clear();
         }
         all_confirmed &= s.rows.iter().all(|r| r.rtl_confirmed != Some(false));
-        print_scene(
-            &mut stdout,
-            s,
-            config.clock_mhz,
-            options.as_ref().map(|o| o.processor),
-        )?;
+        print_scene(&mut stdout, s, config.clock_mhz, options.is_some())?;
         let svg = out.join(format!("chart-{}.svg", file_stem(&s.name)));
         let png = svg.with_extension("png");
         chart::write(s, &svg, &png)?;
@@ -216,12 +212,7 @@ pub fn finish(
     let csv = out.join("sweep.csv");
     let json = out.join("sweep.json");
     sweep::write_csv(&csv, &rows)?;
-    sweep::write_json(
-        &json,
-        &sweeps,
-        config.clock_hz(),
-        options.as_ref().map(|o| o.processor),
-    )?;
+    sweep::write_json(&json, &sweeps, config.clock_hz(), options.is_some())?;
     writeln!(stdout, "wrote {} and {}", csv.display(), json.display())?;
     if !all_confirmed {
         writeln!(
@@ -240,13 +231,9 @@ fn file_stem(name: &str) -> String {
 }
 
 /// The scene's front and its thesis configuration, as a table, with
-/// frames/s at `clock_mhz`, the front confirmed on `rtl` (if any).
-fn print_scene(
-    out: &mut impl Write,
-    s: &SceneSweep,
-    clock_mhz: f64,
-    rtl: Option<ProcessorKind>,
-) -> Result<()> {
+/// frames/s of one device and of one processor at `clock_mhz`, the front
+/// confirmed on the RTL if `rtl`.
+fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64, rtl: bool) -> Result<()> {
     let (w, h) = (s.scene.camera.width, s.scene.camera.height);
     writeln!(
         out,
@@ -258,28 +245,26 @@ fn print_scene(
     )?;
     writeln!(
         out,
-        "frames/s: one pixel processor at {clock_mhz} MHz, {}",
+        "device frames/s: one {} filled with processors of the row's build at its clock \
+         estimate (rtl/synth/costs.toml); one processor's at {clock_mhz} MHz, {}",
+        rtcosim::device::Device::LX760.name,
         sweep::clock_source(clock_mhz)
     )?;
-    if let Some(p) = rtl {
-        writeln!(
-            out,
-            "RTL: the front co-simulated on the {p} processor ({})",
-            p.rtl()
-        )?;
+    if rtl {
+        writeln!(out, "RTL: each front row co-simulated on its own processor")?;
     }
     writeln!(
         out,
-        "| depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",
+        "| processor | depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | processors x MHz | device frames/s | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",
         sweep::fps_header(clock_mhz)
     )?;
     writeln!(
         out,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     )?;
     let thesis = s.thesis();
     let mut shown: Vec<&Row> = s.rows.iter().filter(|r| r.pareto).collect();
-    shown.sort_by_key(|r| r.frame_cycles);
+    shown.sort_by(|a, b| a.device_fps.total_cmp(&b.device_fps));
     if let Some(t) = thesis.filter(|t| !t.pareto) {
         shown.push(t);
     }
@@ -292,13 +277,17 @@ fn print_scene(
         let mark = if Some(r) == thesis { " (thesis)" } else { "" };
         writeln!(
             out,
-            "| {} | {} | {} | {}{mark} | {} | {:.2} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
+            "| {} | {} | {} | {} | {}{mark} | {} | {:.2} | {} x {} | {:.3} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
+            r.processor,
             r.depth,
             r.recip,
             r.sqrt,
             sweep::speedup_label(r.config().speedups),
             r.weight_cutoff,
             r.cycles_per_pixel,
+            r.device_processors,
+            r.device_clock_mhz,
+            r.device_fps,
             r.fps_at_clock_mhz,
             r.mean_abs_error,
             r.max_abs_error,

@@ -1,8 +1,9 @@
 //! The speed-against-accuracy chart of one scene's sweep, drawn with
 //! plotters as SVG and PNG.
 //!
-//! x: mean cycles per pixel; y: mean absolute error against the f64
-//! reference on the 0..255 scale, log scale. The mean, not the largest
+//! x: frames per second of one Virtex-6 LX760 filled with processors of
+//! the row's build ([`crate::device`]), log scale; y: mean absolute error
+//! against the f64 reference on the 0..255 scale, log scale. The mean, not the largest
 //! error, because it weighs the whole frame: the largest error is one
 //! pixel's, decided by rounding luck at an edge, and jumps between
 //! neighbouring configurations. A mean of exactly 0 has no place on a log
@@ -10,10 +11,12 @@
 //! the legend says so; non-finite means (a NaN colour) are not drawn, and
 //! the title counts them.
 //!
-//! Grey dots are all configurations, the blue line and dots the Pareto
-//! front, a green square a front point the RTL confirmed (bit- and
-//! cycle-exact on its sampled pixels), a red cross one it did not, the
-//! orange triangle the thesis' configuration.
+//! Grey dots are the compact processor's configurations, teal ones the
+//! fast processor's, the blue line and dots the Pareto front over both, a
+//! green square a front point the RTL confirmed (bit- and cycle-exact on
+//! its sampled pixels), a red cross one it did not, the orange triangle
+//! the thesis' hardware ([`super::THESIS_DEVICE`]) at its configuration's
+//! error.
 //!
 //! Text: plotters' own text rendering needs its `ttf` feature (font-kit,
 //! which needs fontconfig and freetype) or `ab_glyph` with font bytes from
@@ -25,6 +28,7 @@
 //! the same labels at the same places.
 
 use super::{Row, SceneSweep, SweepError};
+use crate::processor::ProcessorKind;
 use golden::diffmap::font;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -46,6 +50,7 @@ const SCALE: u32 = 2;
 const SVG_TEXT_PX: f64 = 16.0;
 
 const GREY: RGBColor = RGBColor(150, 150, 150);
+const TEAL: RGBColor = RGBColor(40, 170, 170);
 const FRONT: RGBColor = RGBColor(30, 90, 200);
 const CONFIRMED: RGBColor = RGBColor(0, 150, 60);
 const FAILED: RGBColor = RGBColor(210, 30, 30);
@@ -127,9 +132,10 @@ pub fn write(sweep: &SceneSweep, svg: &Path, png: &Path) -> Result<(), SweepErro
         .map_err(|e| err(png)(e.to_string()))
 }
 
-/// The front as steps: from each point right at its error to the next
-/// point's cycles, then down to that point's error (with more cycles, a
-/// front point's error is what can be had until the next point).
+/// The front as steps, `points` fastest first: from each point left at its
+/// error to the next point's frames/s, then down to that point's error
+/// (with fewer frames/s, a front point's error is what can be had until
+/// the next point).
 fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let mut path = Vec::new();
     for (i, &(x, y)) in points.iter().enumerate() {
@@ -158,7 +164,25 @@ fn decades(rows: &[Row]) -> (i32, i32) {
     (lo, hi.max(lo + 1))
 }
 
+/// The x range, whole decades around the positive device frames/s.
+fn fps_decades(rows: &[Row], thesis: Option<f64>) -> (i32, i32) {
+    let fps: Vec<f64> = rows
+        .iter()
+        .map(|r| r.device_fps)
+        .chain(thesis)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .collect();
+    if fps.is_empty() {
+        return (-1, 2);
+    }
+    let lo = fps.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = fps.iter().copied().fold(0.0, f64::max);
+    let (lo, hi) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (lo, hi.max(lo + 1))
+}
+
 /// Ticks at 1, 2 or 5 times a power of ten, about six across [lo, hi].
+#[cfg(test)]
 fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let raw = (hi - lo) / 6.0;
     let mag = 10f64.powf(raw.log10().floor());
@@ -183,34 +207,26 @@ fn draw<DB: DrawingBackend>(
     let rows = &sweep.rows;
     let (d0, d1) = decades(rows);
     let (y0, y1) = (10f64.powi(d0), 10f64.powi(d1));
-    let cycles = rows.iter().map(|r| r.cycles_per_pixel);
-    let (c0, c1) = cycles.fold((f64::INFINITY, 0.0f64), |(a, b), c| (a.min(c), b.max(c)));
-    let (c0, c1) = if rows.is_empty() {
-        (0.0, 1.0)
-    } else {
-        let pad = ((c1 - c0) * 0.05).max(1.0);
-        ((c0 - pad).max(0.0), c1 + pad)
-    };
+    let thesis_row = sweep.thesis().filter(|t| error(t).is_some());
+    let thesis_fps = thesis_row.map(|t| super::THESIS_DEVICE.frames_per_second(t.width * t.height));
+    let (f0, f1) = fps_decades(rows, thesis_fps);
+    let (c0, c1) = (10f64.powi(f0), 10f64.powi(f1));
     let mut chart = ChartBuilder::on(root)
         .margin_top(TOP)
         .margin_left(LEFT)
         .margin_right(RIGHT)
         .margin_bottom(BOTTOM)
-        .build_cartesian_2d(c0..c1, (y0..y1).log_scale())
+        .build_cartesian_2d((c0..c1).log_scale(), (y0..y1).log_scale())
         .map_err(e)?;
-    let at = |r: &Row| {
-        (
-            r.cycles_per_pixel,
-            error(r).map(|v| v.max(y0)).unwrap_or(y0),
-        )
-    };
+    let y_of = |r: &Row| error(r).map(|v| v.max(y0)).unwrap_or(y0);
+    let at = |r: &Row| (r.device_fps.clamp(c0, c1), y_of(r));
     let mut labels = Vec::new();
     let label = |text: String, (x, y): (i32, i32), anchor| Label { text, x, y, anchor };
 
     // Grid, frame and tick labels.
     let light = ShapeStyle::from(&RGBColor(225, 225, 225)).stroke_width(1);
-    let xt = ticks(c0, c1);
-    for &x in &xt {
+    for d in f0..=f1 {
+        let x = 10f64.powi(d);
         chart
             .draw_series([PathElement::new(vec![(x, y0), (x, y1)], light)])
             .map_err(e)?;
@@ -232,27 +248,31 @@ fn draw<DB: DrawingBackend>(
     // Every configuration; errors of exactly 0 as hollow triangles on the
     // bottom edge.
     let zero = rows.iter().filter(|r| r.mean_abs_error == 0.0).count();
+    let colour = |r: &Row| match r.processor {
+        ProcessorKind::Compact => GREY,
+        ProcessorKind::Fast => TEAL,
+    };
     chart
         .draw_series(
             rows.iter()
                 .filter(|r| error(r).is_some_and(|v| v > 0.0))
-                .map(|r| Circle::new(at(r), 3, GREY.filled())),
+                .map(|r| Circle::new(at(r), 3, colour(r).filled())),
         )
         .map_err(e)?;
     chart
         .draw_series(
             rows.iter()
                 .filter(|r| r.mean_abs_error == 0.0)
-                .map(|r| TriangleMarker::new(at(r), 5, GREY.stroke_width(1))),
+                .map(|r| TriangleMarker::new(at(r), 5, colour(r).stroke_width(1))),
         )
         .map_err(e)?;
 
-    // The front, slowest last.
+    // The front, fastest first.
     let mut front: Vec<&Row> = rows
         .iter()
         .filter(|r| r.pareto && error(r).is_some())
         .collect();
-    front.sort_by_key(|r| r.frame_cycles);
+    front.sort_by(|a, b| b.device_fps.total_cmp(&a.device_fps));
     chart
         .draw_series(LineSeries::new(
             staircase(&front.iter().map(|r| at(r)).collect::<Vec<_>>()),
@@ -272,19 +292,24 @@ fn draw<DB: DrawingBackend>(
         .draw_series(confirmed(false).map(|r| Cross::new(at(r), 8, FAILED.stroke_width(3))))
         .map_err(e)?;
 
-    // The thesis' configuration.
-    if let Some(t) = sweep.thesis().filter(|t| error(t).is_some()) {
+    // The thesis' hardware, at its configuration's error.
+    if let (Some(t), Some(fps)) = (thesis_row, thesis_fps) {
+        let point = (fps.clamp(c0, c1), y_of(t));
         chart
-            .draw_series([TriangleMarker::new(at(t), 9, THESIS.filled())])
+            .draw_series([TriangleMarker::new(point, 9, THESIS.filled())])
             .map_err(e)?;
-        let (px, py) = chart.backend_coord(&at(t));
+        let (px, py) = chart.backend_coord(&point);
         // Beside the marker, on the side with room.
         let (x, anchor) = if px > (WIDTH / 2) as i32 {
             (px - 12, Anchor::Right)
         } else {
             (px + 12, Anchor::Left)
         };
-        labels.push(label("thesis: depth 4, fp+ss".into(), (x, py - 24), anchor));
+        labels.push(label(
+            "thesis: 2 processors, 28.86 MHz".into(),
+            (x, py - 24),
+            anchor,
+        ));
     }
 
     // Titles.
@@ -306,7 +331,10 @@ fn draw<DB: DrawingBackend>(
         Anchor::Left,
     ));
     labels.push(label(
-        "mean cycles per pixel (micro-op model = RTL)".into(),
+        format!(
+            "frames/s of one {} full of the row's processors (log)",
+            crate::device::Device::LX760.name
+        ),
         (
             (LEFT + (WIDTH - LEFT - RIGHT) / 2) as i32,
             (HEIGHT - BOTTOM) as i32 + 32,
@@ -314,21 +342,23 @@ fn draw<DB: DrawingBackend>(
         Anchor::Center,
     ));
 
-    // Legend, top right: a marker and its text per line.
+    // Legend, top left (the slow, inaccurate corner, which the front
+    // leaves empty): a marker and its text per line.
     let mut legend: Vec<(&str, RGBColor)> = vec![
-        ("all configurations", GREY),
+        ("compact processor", GREY),
+        ("fast processor", TEAL),
         ("Pareto front", FRONT),
         ("RTL-confirmed (bit+cycle)", CONFIRMED),
     ];
     if front.iter().any(|r| r.rtl_confirmed == Some(false)) {
         legend.push(("RTL check failed", FAILED));
     }
-    legend.push(("thesis configuration", THESIS));
+    legend.push(("thesis' hardware", THESIS));
     let zero_text = format!("error exactly 0 ({zero}): bottom edge");
     if zero > 0 {
         legend.push((zero_text.as_str(), GREY));
     }
-    let lx = (WIDTH - RIGHT) as i32 - 330;
+    let lx = LEFT as i32 + 12;
     for (i, (text, colour)) in legend.iter().enumerate() {
         let ly = TOP as i32 + 12 + 24 * i as i32;
         root.draw(&Rectangle::new(

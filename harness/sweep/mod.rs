@@ -56,6 +56,37 @@ pub const ECP5_CLOCK_HZ: f64 = 8.94e6;
 /// `sweep --clock-mhz 34.74` states frames/s at it for comparison.
 pub const THESIS_CLOCK_HZ: f64 = 34.740e6;
 
+/// The thesis' own hardware on its Virtex-6 LX760: two pixel processors
+/// at 28.86 MHz, the most that routed (thesis section 5.2; one routed at
+/// 34.74 MHz), 148,655,803 cycles for its 800x600 reference frame
+/// (docs/rtl.md, "Frames per second and processors per LX760"). The
+/// chart's thesis point: [`ThesisDevice::frames_per_second`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThesisDevice {
+    pub processors: u32,
+    pub clock_hz: f64,
+    pub frame_cycles: u64,
+    pub frame_pixels: u64,
+}
+
+pub const THESIS_DEVICE: ThesisDevice = ThesisDevice {
+    processors: 2,
+    clock_hz: 28.86e6,
+    frame_cycles: 148_655_803,
+    frame_pixels: 800 * 600,
+};
+
+impl ThesisDevice {
+    /// Frames a second of a frame of `pixels` at the reference frame's
+    /// cycles per pixel (exact for the reference frame at 800x600; for
+    /// other scenes and sizes, a scaling: the thesis' cycles per pixel
+    /// were measured on that frame only). 0.388 for the reference.
+    pub fn frames_per_second(&self, pixels: u32) -> f64 {
+        let per_pixel = self.frame_cycles as f64 / self.frame_pixels as f64;
+        f64::from(self.processors) * self.clock_hz / (per_pixel * f64::from(pixels.max(1)))
+    }
+}
+
 /// What a frames/s figure at `clock_mhz` is: a header for tables, `frames/s
 /// at 8.94 MHz`.
 pub fn fps_header(clock_mhz: f64) -> String {
@@ -95,14 +126,16 @@ pub const CUTOFFS: [f32; 9] = [
 ];
 
 /// The cutoffs of the default sweep: off, one 8-bit step (2^-8) and 2^-4,
-/// three points of [`CUTOFFS`] that keep the grid at 704 configurations.
+/// three points of [`CUTOFFS`] that keep the grid at 1,408 configurations.
 pub const SWEEP_CUTOFFS: [f32; 3] = [0.0, 1.0 / 256.0, 1.0 / 16.0];
 
 /// One render configuration: what the grid varies. Everything else (the
 /// camera, the objects, any render setting this type does not name) is the
-/// scene's own: [`Config::apply`] replaces only these fields.
+/// scene's own: [`Config::apply`] replaces only these fields; the
+/// processor draws the same picture, at its own speed and cost.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
+    pub processor: ProcessorKind,
     pub recip: Method,
     pub sqrt: Method,
     /// Ray stack depth, 1..=[`MAX_DEPTH`].
@@ -119,6 +152,7 @@ impl Config {
     /// speed-ups (nothing skipped, nothing approximated).
     pub fn full() -> Config {
         Config {
+            processor: ProcessorKind::Compact,
             recip: Method::Exact,
             sqrt: Method::Exact,
             depth: MAX_DEPTH,
@@ -134,6 +168,7 @@ impl Config {
     /// methods stand for them here.
     pub fn thesis() -> Config {
         Config {
+            processor: ProcessorKind::Compact,
             recip: Method::Exact,
             sqrt: Method::Exact,
             depth: 4,
@@ -162,10 +197,12 @@ impl Config {
         scene.with_render(render, origin)
     }
 
-    /// A short name: `depth 4, recip exact, sqrt fast, fp+ss, cutoff 1/256`.
+    /// A short name: `compact, depth 4, recip exact, sqrt fast, fp+ss,
+    /// cutoff 1/256`.
     pub fn label(&self) -> String {
         format!(
-            "depth {}, recip {}, sqrt {}, {}, {}",
+            "{}, depth {}, recip {}, sqrt {}, {}, {}",
+            self.processor,
             self.depth,
             self.recip,
             self.sqrt,
@@ -206,12 +243,13 @@ pub fn speedup_label(s: Speedups) -> String {
     }
 }
 
-/// The grid: the product of these lists, in this order (recip, sqrt,
-/// depth, speed-ups, cutoff), which is the order of the CSV's rows. Depth 1
-/// spawns no reflection, so it takes only cutoff 0 (the others would be
-/// the same configuration).
+/// The grid: the product of these lists, in this order (processor, recip,
+/// sqrt, depth, speed-ups, cutoff), which is the order of the CSV's rows.
+/// Depth 1 spawns no reflection, so it takes only cutoff 0 (the others
+/// would be the same configuration).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
+    pub processors: Vec<ProcessorKind>,
     pub recips: Vec<Method>,
     pub sqrts: Vec<Method>,
     pub depths: Vec<u32>,
@@ -220,11 +258,12 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// The sweep's grid: both methods of each unit, every depth 1..=8, each
-    /// speed-up on and off (8 combinations), the cutoffs of
-    /// [`SWEEP_CUTOFFS`]: 4 x 8 x (1 + 7 x 3) = 704 configurations.
+    /// The sweep's grid: both processors, both methods of each unit, every
+    /// depth 1..=8, each speed-up on and off (8 combinations), the cutoffs
+    /// of [`SWEEP_CUTOFFS`]: 2 x 4 x 8 x (1 + 7 x 3) = 1,408 configurations.
     pub fn full() -> Grid {
         Grid {
+            processors: vec![ProcessorKind::Compact, ProcessorKind::Fast],
             speedups: (0..8u8)
                 .map(|bits| Speedups {
                     bounding_box: bits & 4 != 0,
@@ -237,13 +276,15 @@ impl Grid {
         }
     }
 
-    /// `tune`'s grid: both methods of each unit, every depth, every cutoff
-    /// of [`CUTOFFS`], and the one set of speed-ups given (those whose
-    /// preconditions the scene meets: they change only the cycles, never
-    /// the image): 4 x (1 + 7 x 9) = 256 configurations.
+    /// `tune`'s grid: the compact processor, both methods of each unit,
+    /// every depth, every cutoff of [`CUTOFFS`], and the one set of
+    /// speed-ups given (those whose preconditions the scene meets: they
+    /// change only the cycles, never the image): 4 x (1 + 7 x 9) = 256
+    /// configurations.
     pub fn tune(speedups: Speedups) -> Grid {
         let both = vec![Method::Exact, Method::Fast];
         Grid {
+            processors: vec![ProcessorKind::Compact],
             recips: both.clone(),
             sqrts: both,
             depths: (1..=MAX_DEPTH).collect(),
@@ -255,18 +296,21 @@ impl Grid {
     /// Every configuration, in row order.
     pub fn configs(&self) -> Vec<Config> {
         let mut out = Vec::new();
-        for &recip in &self.recips {
-            for &sqrt in &self.sqrts {
-                for &depth in &self.depths {
-                    for &speedups in &self.speedups {
-                        for &cutoff in self.cutoffs.iter().filter(|&&c| depth > 1 || c == 0.0) {
-                            out.push(Config {
-                                recip,
-                                sqrt,
-                                depth,
-                                speedups,
-                                cutoff,
-                            });
+        for &processor in &self.processors {
+            for &recip in &self.recips {
+                for &sqrt in &self.sqrts {
+                    for &depth in &self.depths {
+                        for &speedups in &self.speedups {
+                            for &cutoff in self.cutoffs.iter().filter(|&&c| depth > 1 || c == 0.0) {
+                                out.push(Config {
+                                    processor,
+                                    recip,
+                                    sqrt,
+                                    depth,
+                                    speedups,
+                                    cutoff,
+                                });
+                            }
                         }
                     }
                 }
@@ -285,6 +329,8 @@ pub struct Row {
     pub scene: String,
     pub width: u32,
     pub height: u32,
+    /// The pixel processor: compact or fast.
+    pub processor: ProcessorKind,
     #[serde(deserialize_with = "method_name")]
     pub recip: MethodName,
     #[serde(deserialize_with = "method_name")]
@@ -295,17 +341,34 @@ pub struct Row {
     pub shadow_shortcut: bool,
     /// `[render] weight_cutoff` (0: off).
     pub weight_cutoff: f32,
-    /// Mean cycles per pixel (the micro-op model's = the RTL's).
+    /// Mean cycles per pixel (the micro-op model's = the RTL's): a pixel's
+    /// cycles from its start to its end; on the fast processor, from the
+    /// turn that took it to its done turn, 32 pixels in flight.
     pub cycles_per_pixel: f64,
     /// The slowest pixel's cycles.
     pub max_cycles: u64,
-    /// Cycles of the whole frame on one pixel processor.
+    /// Cycles of the whole frame on one pixel processor (the fast one's by
+    /// its barrel rule, `golden::micro::barrel`, as co-simulation checks).
     pub frame_cycles: u64,
     /// Frames per second of one pixel processor at `clock_mhz` (not a
     /// device's: one processor, no top, at the clock the run states).
     pub fps_at_clock_mhz: f64,
     /// The clock `fps_at_clock_mhz` is at: by default [`ECP5_CLOCK_HZ`].
     pub clock_mhz: f64,
+    /// The speed axis in hardware units ([`crate::device`]): processors of
+    /// this build that fit one Virtex-6 LX760, the resource that binds,
+    /// the build's clock estimate, and the device's frames per second, the
+    /// frame split evenly between its processors.
+    pub device_processors: u32,
+    pub device_binding: String,
+    pub device_clock_mhz: f64,
+    pub device_fps: f64,
+    /// One processor of the build: slice LUTs and DSP48E1s (the area axis).
+    pub luts_per_processor: u32,
+    pub dsp_per_processor: u32,
+    /// Whether the build's cost was measured or interpolated
+    /// (`rtl/synth/costs.toml`).
+    pub cost_source: String,
     /// Mean |micro - reference| over every colour value, 0..255 scale.
     pub mean_abs_error: f64,
     /// Largest |micro - reference| of any colour value, 0..255 scale.
@@ -341,6 +404,7 @@ impl Row {
             }
         };
         Config {
+            processor: self.processor,
             recip: method(self.recip),
             sqrt: method(self.sqrt),
             depth: self.depth,
@@ -430,6 +494,33 @@ pub enum SweepError {
     },
     #[error("{}: cannot draw the chart: {reason}", path.display())]
     Chart { path: PathBuf, reason: String },
+    #[error("{scene}: {source}")]
+    Cost {
+        scene: String,
+        #[source]
+        source: crate::device::CostError,
+    },
+}
+
+/// Refuses a sweep of `scene` over `grid` before it runs if the cost table
+/// cannot price a build the grid needs (every processor and method pair,
+/// with the exponential as the scene needs it), naming the build.
+pub fn check_costs(name: &str, scene: &Scene, grid: &Grid) -> Result<(), SweepError> {
+    let cost = |source| SweepError::Cost {
+        scene: name.into(),
+        source,
+    };
+    let table = crate::device::CostTable::builtin_ref().map_err(cost)?;
+    for &p in &grid.processors {
+        for &r in &grid.recips {
+            for &q in &grid.sqrts {
+                table
+                    .build_for(p, r, q, scene.render.exposure.is_some())
+                    .map_err(|e| cost(e.clone()))?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The f64 reference frame the sweep measures against
@@ -499,18 +590,59 @@ pub fn measure_config(
     reference: &Frame,
     clock_hz: f64,
 ) -> Result<Row, Skipped> {
-    match config.apply(scene, name) {
-        Ok(s) => Ok(measure(name, config, &s, reference, clock_hz)),
-        Err(e) => Err(Skipped {
-            config: *config,
-            reason: e.to_string(),
-        }),
+    let skip = |reason: String| Skipped {
+        config: *config,
+        reason,
+    };
+    let s = config.apply(scene, name).map_err(|e| skip(e.to_string()))?;
+    measure(name, config, &s, reference, clock_hz).map_err(|e| skip(e.to_string()))
+}
+
+/// The frame cycles of one `processor` for the frame whose pixels did
+/// `work` (in row order) and took `stats`: the compact processor's are the
+/// sum of its pixels' cycles; the fast one's, its barrel rule's from the
+/// first take to the last done turn, plus the cycles from the stream's
+/// first coordinate to the first take and from the last done turn to the
+/// result ([`cosim::FAST_FRAME_OVERHEAD`]), as co-simulation checks them.
+pub fn frame_cycles(
+    processor: ProcessorKind,
+    stats: &golden::micro::FrameStats,
+    work: &[golden::micro::barrel::PixelWork],
+) -> (u64, f64, u64) {
+    match processor {
+        ProcessorKind::Compact => (stats.cycles, stats.mean_cycles(), stats.max_cycles),
+        ProcessorKind::Fast => {
+            let run = golden::micro::barrel::run(crate::top::FAST_CONTEXTS, work);
+            let n = run.pixels.len().max(1) as f64;
+            let each: Vec<u64> = run.pixels.iter().map(|p| p.cycles()).collect();
+            (
+                run.cycles + cosim::FAST_FRAME_OVERHEAD,
+                each.iter().sum::<u64>() as f64 / n,
+                each.iter().copied().max().unwrap_or(0),
+            )
+        }
     }
 }
 
-/// One configuration's row (RTL columns empty, not on the front yet).
-fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_hz: f64) -> Row {
-    let (frame, stats) = golden::micro::render(scene, &|_| {});
+/// One configuration's row (RTL columns empty, not on the front yet), or
+/// why the cost table cannot price its build.
+fn measure(
+    name: &str,
+    config: &Config,
+    scene: &Scene,
+    reference: &Frame,
+    clock_hz: f64,
+) -> Result<Row, crate::device::CostError> {
+    let (frame, stats, work) = golden::micro::render_work(scene, &|_| {});
+    let (frame_cycles, cycles_per_pixel, max_cycles) =
+        self::frame_cycles(config.processor, &stats, &work);
+    let on = crate::device::CostTable::builtin_ref()?.on_device(
+        &crate::device::Device::LX760,
+        config.processor,
+        (config.recip, config.sqrt),
+        scene.render.exposure.is_some(),
+        frame_cycles,
+    )?;
     let map = DiffMap::new(&frame, reference).expect("the reference has the scene's size");
     let table = map.table("micro", "reference", &[0.0]);
     // Over 0 is every nonzero difference, so their sum is the sum of all.
@@ -519,10 +651,11 @@ fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_
         nonzero.mean_over.unwrap_or(0.0) * nonzero.over as f64 / table.channels.max(1) as f64;
     let mask = map.mask(VISIBLE);
     let over = mask.pixels().filter(|p| p.0[0] == 0).count();
-    Row {
+    Ok(Row {
         scene: name.into(),
         width: scene.camera.width,
         height: scene.camera.height,
+        processor: config.processor,
         recip: config.recip.name(),
         sqrt: config.sqrt.name(),
         depth: config.depth,
@@ -530,11 +663,18 @@ fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_
         fast_plane: config.speedups.fast_plane,
         shadow_shortcut: config.speedups.shadow_shortcut,
         weight_cutoff: config.cutoff,
-        cycles_per_pixel: stats.mean_cycles(),
-        max_cycles: stats.max_cycles,
-        frame_cycles: stats.cycles,
-        fps_at_clock_mhz: clock_hz / stats.cycles as f64,
+        cycles_per_pixel,
+        max_cycles,
+        frame_cycles,
+        fps_at_clock_mhz: clock_hz / frame_cycles as f64,
         clock_mhz: clock_hz / 1e6,
+        device_processors: on.filled.processors,
+        device_binding: on.filled.binding.into(),
+        device_clock_mhz: on.filled.clock_mhz,
+        device_fps: on.frames_per_second,
+        luts_per_processor: on.cost.luts,
+        dsp_per_processor: on.cost.dsp48e1,
+        cost_source: on.cost.source.kind().into(),
         mean_abs_error,
         max_abs_error: table.largest.first().map_or(0.0, |l| l.value),
         share_pixels_over_half: over as f64 / scene.pixel_count() as f64,
@@ -547,33 +687,32 @@ fn measure(name: &str, config: &Config, scene: &Scene, reference: &Frame, clock_
         differs_from_full: None,
         rtl_pixels: None,
         rtl_confirmed: None,
-    }
+    })
 }
 
-/// For each row, whether it is on the Pareto front of (frame cycles, mean
-/// abs error), both minimized: no other row is at most as slow and at most
-/// as wrong, and strictly better in one. Rows equal in both are all on it.
-/// NaN errors count as worse than any number.
+/// For each row, whether it is on the Pareto front of (device frames per
+/// second, maximized; mean abs error, minimized): no other row is at least
+/// as fast on the device and at most as wrong, and strictly better in one.
+/// Rows equal in both are all on it. NaN errors count as worse than any
+/// number.
 pub fn pareto_front(rows: &[Row]) -> Vec<bool> {
-    let key = |r: &Row| (r.frame_cycles, r.mean_abs_error);
+    let key = |r: &Row| (r.device_fps, r.mean_abs_error);
     rows.iter()
         .map(|r| {
-            let (c, e) = key(r);
+            let (f, e) = key(r);
             !rows.iter().any(|o| {
-                let (oc, oe) = key(o);
-                let no_worse = oc <= c && oe.total_cmp(&e).is_le();
-                let better = oc < c || oe.total_cmp(&e).is_lt();
+                let (of, oe) = key(o);
+                let no_worse = of.total_cmp(&f).is_ge() && oe.total_cmp(&e).is_le();
+                let better = of.total_cmp(&f).is_gt() || oe.total_cmp(&e).is_lt();
                 no_worse && better
             })
         })
         .collect()
 }
 
-/// How the front is checked on the RTL.
+/// How the front is checked on the RTL (each row on its own processor).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ConfirmOptions {
-    /// The processor that confirms the front.
-    pub processor: ProcessorKind,
     /// Random pixels co-simulated besides those that differ from the full
     /// configuration's frame.
     pub sample: u64,
@@ -640,13 +779,12 @@ pub fn confirm(
     let mut reports = Vec::new();
     for (i, scene, pixels, differing) in plans {
         let row = &mut sweep.rows[i];
-        let report =
-            cosim::run_pixels(&scene, &pixels, options.processor, &options.cosim, progress)
-                .map_err(|source| SweepError::Cosim {
-                    scene: sweep.name.clone(),
-                    config: row.config().label(),
-                    source: Box::new(source),
-                })?;
+        let report = cosim::run_pixels(&scene, &pixels, row.processor, &options.cosim, progress)
+            .map_err(|source| SweepError::Cosim {
+                scene: sweep.name.clone(),
+                config: row.config().label(),
+                source: Box::new(source),
+            })?;
         row.differs_from_full = Some(differing);
         row.rtl_pixels = Some(report.counts.pixels);
         row.rtl_confirmed = Some(report.passed());
@@ -680,8 +818,11 @@ struct Document<'a> {
     /// The clock of every row's `fps_at_clock_mhz`, and where it comes from.
     clock_mhz: f64,
     clock_source: &'static str,
-    /// The processor the front was co-simulated on (none without the RTL).
-    rtl_processor: Option<ProcessorKind>,
+    /// Whether the front was co-simulated (each row on its processor).
+    rtl: bool,
+    /// The device of the `device_*` columns, and the cost table's tools.
+    device: &'static str,
+    yosys: String,
     reference_depth: u32,
     visible_threshold: f64,
     scenes: Vec<SceneDocument<'a>>,
@@ -706,12 +847,16 @@ pub fn write_json(
     path: &Path,
     sweeps: &[SceneSweep],
     clock_hz: f64,
-    rtl_processor: Option<ProcessorKind>,
+    rtl: bool,
 ) -> Result<(), SweepError> {
     let doc = Document {
         clock_mhz: clock_hz / 1e6,
         clock_source: clock_source(clock_hz / 1e6),
-        rtl_processor,
+        rtl,
+        device: crate::device::Device::LX760.name,
+        yosys: crate::device::CostTable::builtin_ref()
+            .map(|t| t.yosys.clone())
+            .unwrap_or_default(),
         reference_depth: MAX_DEPTH,
         visible_threshold: VISIBLE,
         scenes: sweeps

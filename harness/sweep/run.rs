@@ -55,10 +55,8 @@ pub struct RunConfig {
     /// `STATE:XOR`, as `--fault` takes it.
     pub fault: Option<String>,
     pub timeout_cycles: u64,
-    /// The processor the front is confirmed on (shard files written before
-    /// the fast processor existed: the compact one).
-    #[serde(default)]
-    pub processor: ProcessorKind,
+    /// The processors swept (each row is confirmed on its own).
+    pub processors: Vec<ProcessorKind>,
     /// The Verilator that built the RTL the front is confirmed on.
     pub verilator: String,
 }
@@ -67,6 +65,9 @@ impl RunConfig {
     /// The grid every scene is swept over.
     pub fn grid(&self) -> Grid {
         let mut grid = Grid::full();
+        if !self.processors.is_empty() {
+            grid.processors = self.processors.clone();
+        }
         if !self.depths.is_empty() {
             grid.depths = self.depths.clone();
         }
@@ -114,7 +115,6 @@ impl RunConfig {
             .transpose()
             .map_err(|e| format!("fault: {e}"))?;
         Ok(Some(ConfirmOptions {
-            processor: self.processor,
             sample: self.sample,
             seed: self.seed,
             cosim: CosimOptions {
@@ -142,6 +142,10 @@ pub fn measure(
     reference: &dyn Fn(&str),
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Measured>, SweepError> {
+    let grid = config.grid();
+    for (named, scene) in config.scenes.iter().zip(scenes) {
+        super::check_costs(&named.name, scene, &grid)?;
+    }
     let work = config.work();
     let clock_hz = config.clock_hz();
     let positions = shard.positions(work.len() as u64);

@@ -31,7 +31,9 @@
 #                                          # trace and fault ports (PP_TRACE), written as
 #                                          # netlist.v for co-simulation (docs/netlist.md)
 #
-# Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast.
+# Methods: exact (RECIP_METHOD = SQRT_METHOD = FP_METHOD_EXACT) or fast; for
+# pp, fast-pp and the tops also a mixed pair, recip's then sqrt's:
+# exact-fast, fast-exact.
 # STACK_DEPTH is the RTL's default. Out of context: no I/O or clock buffers.
 # Everything lands in target/synth/<device>-<design>-<methods>[-N<n>]/:
 # yosys.log, stat.txt (the mapped cell counts), netlist.json (flattened),
@@ -41,17 +43,22 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast [N|noexp]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast|exact-fast|fast-exact [N|noexp]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
 device=$1 design=$2 methods=$3 n=${4:-}
 
+# RECIP_METHOD and SQRT_METHOD: both the same (exact, fast) or a mixed pair,
+# recip's then sqrt's (exact-fast, fast-exact; the processors and tops only).
 case $methods in
-exact) method=0 ;;
-fast) method=1 ;;
-*) echo "$0: methods '$methods' is neither exact nor fast" >&2; exit 2 ;;
+exact) recip_method=0 sqrt_method=0 ;;
+fast) recip_method=1 sqrt_method=1 ;;
+exact-fast) recip_method=0 sqrt_method=1 ;;
+fast-exact) recip_method=1 sqrt_method=0 ;;
+*) echo "$0: methods '$methods' is none of exact, fast, exact-fast, fast-exact" >&2; exit 2 ;;
 esac
+method=$recip_method
 case $device in
 xc6v) synth="synth_xilinx -family xc6v -flatten -noiopad -noclkbuf" ;;
 ecp5) synth="synth_ecp5" ;;
@@ -69,7 +76,7 @@ trace=""
 # -defer: each module is elaborated once, by hierarchy, with its parameters
 # (the seed tables of fp_recip and fp_sqrt take minutes each to elaborate).
 inc="-defer $trace -Irtl/fp -Irtl/pp"
-params="-chparam RECIP_METHOD $method -chparam SQRT_METHOD $method"
+params="-chparam RECIP_METHOD $recip_method -chparam SQRT_METHOD $sqrt_method"
 case $design in
 pp)
     [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
@@ -101,6 +108,7 @@ rtl/fp/fp_add.v rtl/fp/fp_mul.v $(echo rtl/fast/*.v) tests/synth/fp_reg.v"
     case $design in
     add) unit=0 ;; mul) unit=1 ;; fast-add) unit=2 ;; fast-mul) unit=3 ;; fast-itof) unit=4 ;; fast-recip) unit=5 ;; fast-sqrt) unit=6 ;; fast-exp) unit=7 ;;
     esac
+    [ "$recip_method" = "$sqrt_method" ] || { echo "$0: a unit takes one method, exact or fast" >&2; exit 2; }
     params="-chparam UNIT $unit -chparam METHOD $method"
     out=$device-$design
     case $design in fast-recip | fast-sqrt) out=$out-$methods ;; esac

@@ -258,17 +258,36 @@ impl FrameStats {
 /// its statistics are the same whatever the number of threads. `progress`
 /// is called with the number of pixels finished, once per row.
 pub fn render(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> (Frame, FrameStats) {
+    let (frame, stats, _) = render_work(scene, progress);
+    (frame, stats)
+}
+
+/// [`render`], with each pixel's work as the fast processor's barrel rule
+/// reads it ([`barrel::PixelWork`]), in row order: `barrel::run` of them
+/// gives the fast processor's cycles for the frame.
+pub fn render_work(
+    scene: &Scene,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (Frame, FrameStats, Vec<barrel::PixelWork>) {
     let proc = Processor::new(scene);
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut pixels = vec![[0.0f64; 3]; w as usize * h as usize];
+    let n = w as usize * h as usize;
+    let mut pixels = vec![[0.0f64; 3]; n];
+    let idle = barrel::PixelWork {
+        instructions: 0,
+        exp_at: None,
+    };
+    let mut work = vec![idle; n];
     let stats = pixels
         .par_chunks_mut(w as usize)
+        .zip(work.par_chunks_mut(w as usize))
         .enumerate()
-        .map(|(py, row)| {
+        .map(|(py, (row, row_work))| {
             let mut stats = FrameStats::default();
-            for (px, out) in row.iter_mut().enumerate() {
+            for (px, (out, wk)) in row.iter_mut().zip(row_work.iter_mut()).enumerate() {
                 let r = proc.render_pixel(px as u32, py as u32, |_, _| {});
                 *out = r.rgb.map(f64::from);
+                *wk = barrel::PixelWork::of(&r);
                 stats.add_pixel(px as u32, py as u32, &r);
             }
             progress(u64::from(w));
@@ -283,5 +302,5 @@ pub fn render(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> (Frame, FrameSt
         height: h,
         pixels,
     };
-    (frame, stats)
+    (frame, stats, work)
 }
