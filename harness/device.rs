@@ -221,31 +221,41 @@ pub struct OnDevice {
     pub frames_per_second: f64,
 }
 
-impl CostTable {
-    /// The build `processor` with `recip` and `sqrt` draws a scene on: the
-    /// table's [`BUILT_STACK_DEPTH`], and without the exponential only where
-    /// the scene has no exposure and the table holds such a build (the
-    /// fast processor's; the compact one always has it).
-    pub fn build_for(
-        &self,
+impl Build {
+    /// The build a configuration of `processor` with `recip` and `sqrt`
+    /// runs on: [`BUILT_STACK_DEPTH`], and the exponential if the scene has
+    /// exposure.
+    pub fn for_scene(
         processor: ProcessorKind,
         recip: Method,
         sqrt: Method,
         exposure: bool,
-    ) -> Result<&Cost, CostError> {
-        let build = |exposure| Build {
+    ) -> Build {
+        Build {
             processor,
             recip,
             sqrt,
             stack_depth: BUILT_STACK_DEPTH,
             exposure,
-        };
-        if !exposure {
-            if let Ok(c) = self.cost(build(false)) {
+        }
+    }
+}
+
+impl CostTable {
+    /// The cost of `want`, or for a build without the exponential that the
+    /// table does not hold, of the same build with it (the compact
+    /// processor always has it; the fast one's other pairs are not
+    /// synthesized without it).
+    pub fn build_for(&self, want: Build) -> Result<&Cost, CostError> {
+        if !want.exposure {
+            if let Ok(c) = self.cost(want) {
                 return Ok(c);
             }
         }
-        self.cost(build(true))
+        self.cost(Build {
+            exposure: true,
+            ..want
+        })
     }
 
     /// [`CostTable::build_for`] on `device`, filled, drawing a frame that
@@ -253,12 +263,10 @@ impl CostTable {
     pub fn on_device(
         &self,
         device: &Device,
-        processor: ProcessorKind,
-        (recip, sqrt): (Method, Method),
-        exposure: bool,
+        want: Build,
         frame_cycles: u64,
     ) -> Result<OnDevice, CostError> {
-        let cost = self.build_for(processor, recip, sqrt, exposure)?;
+        let cost = self.build_for(want)?;
         let filled = device.fill(cost);
         Ok(OnDevice {
             cost: cost.clone(),

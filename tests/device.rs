@@ -143,11 +143,15 @@ fn the_table_prices_every_swept_build_and_interpolates_by_its_rule() {
     // Without exposure the fast processor's exact pair has its own build;
     // the others fall back to the build with the exponential.
     let noexp = t
-        .build_for(ProcessorKind::Fast, Method::Exact, Method::Exact, false)
+        .build_for(build(ProcessorKind::Fast, false))
         .expect("priced");
     assert!(!noexp.build.exposure);
     let fallback = t
-        .build_for(ProcessorKind::Fast, Method::Fast, Method::Fast, false)
+        .build_for(Build {
+            recip: Method::Fast,
+            sqrt: Method::Fast,
+            ..build(ProcessorKind::Fast, false)
+        })
         .expect("priced");
     assert!(fallback.build.exposure);
 }

@@ -29,6 +29,7 @@ pub mod run;
 
 use crate::compare::CompareReport;
 use crate::cosim::{self, CosimError, CosimOptions};
+use crate::device::Build;
 use crate::processor::ProcessorKind;
 use golden::diffmap::DiffMap;
 use golden::fp::Method;
@@ -195,6 +196,18 @@ impl Config {
             ..scene.render
         };
         scene.with_render(render, origin)
+    }
+
+    /// The RTL build this configuration of `scene` runs on (and is priced
+    /// as): its processor and methods, [`crate::device::BUILT_STACK_DEPTH`],
+    /// the exponential if the scene has exposure.
+    pub fn build(&self, scene: &Scene) -> Build {
+        Build::for_scene(
+            self.processor,
+            self.recip,
+            self.sqrt,
+            scene.render.exposure.is_some(),
+        )
     }
 
     /// A short name: `compact, depth 4, recip exact, sqrt fast, fp+ss,
@@ -514,9 +527,8 @@ pub fn check_costs(name: &str, scene: &Scene, grid: &Grid) -> Result<(), SweepEr
     for &p in &grid.processors {
         for &r in &grid.recips {
             for &q in &grid.sqrts {
-                table
-                    .build_for(p, r, q, scene.render.exposure.is_some())
-                    .map_err(|e| cost(e.clone()))?;
+                let build = Build::for_scene(p, r, q, scene.render.exposure.is_some());
+                table.build_for(build).map_err(|e| cost(e.clone()))?;
             }
         }
     }
@@ -638,9 +650,7 @@ fn measure(
         self::frame_cycles(config.processor, &stats, &work);
     let on = crate::device::CostTable::builtin_ref()?.on_device(
         &crate::device::Device::LX760,
-        config.processor,
-        (config.recip, config.sqrt),
-        scene.render.exposure.is_some(),
+        config.build(scene),
         frame_cycles,
     )?;
     let map = DiffMap::new(&frame, reference).expect("the reference has the scene's size");
