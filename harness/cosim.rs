@@ -21,6 +21,7 @@
 //! any N and any thread count; [`TopReport`] adds what the top cost.
 
 use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
+use crate::device::{Build, BUILT_STACK_DEPTH};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
 use crate::processor::ProcessorKind;
 use crate::top::{FrameStats, Source, Top, FAST_CONTEXTS};
@@ -325,6 +326,8 @@ pub enum CosimError {
     },
     #[error("pixel ({x}, {y}) is listed twice: the fast processor's pixels must be distinct")]
     Repeated { x: u32, y: u32 },
+    #[error("the {build} is not a build the harness verilates for this scene: {why}")]
+    NotBuilt { build: Build, why: String },
 }
 
 /// A worker's verilated model with the scene loaded, and its event buffer.
@@ -753,8 +756,10 @@ pub fn run(
 }
 
 /// Co-simulates a list of pixels of `scene` (any order, any subset of the
-/// image; the report counts them in the order given) on `processor`,
-/// chunks in parallel on the current rayon pool with the same comparison
+/// image; the report counts them in the order given) on `build`, which must
+/// be one the harness verilates for the scene (its methods the scene's,
+/// [`BUILT_STACK_DEPTH`], without the exponential only on the fast
+/// processor and for a scene without exposure), chunks in parallel on the current rayon pool with the same comparison
 /// as [`run`] and [`run_top`]: for checking a sample of pixels rather than
 /// a window. The compact processor runs them one by one; the fast one is
 /// streamed each chunk as a tile, reset before it, its cycles the barrel
@@ -763,10 +768,26 @@ pub fn run(
 pub fn run_pixels(
     scene: &Scene,
     pixels: &[(u32, u32)],
-    processor: ProcessorKind,
+    build: Build,
     options: &CosimOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<CompareReport, CosimError> {
+    let not_built = |why: &str| {
+        Err(CosimError::NotBuilt {
+            build,
+            why: why.into(),
+        })
+    };
+    if (build.recip, build.sqrt) != (scene.render.recip, scene.render.sqrt) {
+        return not_built("its methods are not the scene's");
+    }
+    if build.stack_depth != BUILT_STACK_DEPTH {
+        return not_built("build.rs verilates STACK_DEPTH 8 only");
+    }
+    if !build.exposure && build.processor == ProcessorKind::Compact {
+        return not_built("the compact processor is built with its exponential only");
+    }
+    let processor = build.processor;
     let (width, height) = (scene.camera.width, scene.camera.height);
     if let Some(&(x, y)) = pixels.iter().find(|&&(x, y)| x >= width || y >= height) {
         return Err(CosimError::Pixel {
@@ -799,7 +820,10 @@ pub fn run_pixels(
             if let Some(&(x, y)) = pixels.iter().find(|&&p| !seen.insert(p)) {
                 return Err(CosimError::Repeated { x, y });
             }
-            let top = TopOptions::fast();
+            let top = TopOptions {
+                exp_unit: build.exposure,
+                ..TopOptions::fast()
+            };
             let chunks: Vec<&[(u32, u32)]> = pixels.chunks(FAST_PIXEL_CHUNK).collect();
             par_units(
                 &chunks,

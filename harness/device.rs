@@ -61,6 +61,27 @@ impl fmt::Display for Build {
     }
 }
 
+impl Build {
+    /// Its instance line in Verilog: the processor's module and the
+    /// parameters that make this build.
+    pub fn instance(&self) -> String {
+        let method = |m: Method| match m {
+            Method::Exact => "`FP_METHOD_EXACT",
+            Method::Fast => "`FP_METHOD_FAST",
+        };
+        let (recip, sqrt, depth) = (method(self.recip), method(self.sqrt), self.stack_depth);
+        match self.processor {
+            ProcessorKind::Compact => format!(
+                "pixel_processor #(.RECIP_METHOD({recip}), .SQRT_METHOD({sqrt}), .STACK_DEPTH({depth}))"
+            ),
+            ProcessorKind::Fast => format!(
+                "fast_pp #(.RECIP_METHOD({recip}), .SQRT_METHOD({sqrt}), .STACK_DEPTH({depth}), .EXPOSURE({}))",
+                u8::from(self.exposure)
+            ),
+        }
+    }
+}
+
 /// Methods by their names in the table, `exact` or `fast`.
 mod method {
     use golden::fp::Method;

@@ -1,21 +1,26 @@
-//! `rtcosim tune`: the cheapest configuration of the pixel processor that
-//! renders a scene within an error target, and why.
+//! `rtcosim tune`: the cheapest configuration that renders a scene within
+//! an error target, why, and its check on the RTL.
 //!
-//! The grid is the sweep's ([`Grid::tune`]): stack depth 1..=[`MAX_DEPTH`] x
-//! reciprocal method x square-root method x weight cutoff
-//! ([`CUTOFFS`](crate::sweep::CUTOFFS)), each with every speed-up whose
-//! precondition the scene meets (they never change the image, only the
-//! cycles: `golden::scene` validates that). Each configuration is measured
-//! by the sweep ([`sweep::sweep_scene`]: the golden micro-op model, whose
-//! cycles are the RTL's, cycle for cycle, and whose colours are bit for
-//! bit, against the truth: the f64 reference renderer at the deepest stack
-//! the hardware has and no cutoff). The error is the largest or the mean
+//! The grid is the sweep's ([`Grid::tune`]): both processors (or one) x
+//! stack depth 1..=[`MAX_DEPTH`] x reciprocal method x square-root method x
+//! weight cutoff ([`CUTOFFS`](crate::sweep::CUTOFFS)), each with every
+//! speed-up whose precondition the scene meets (they never change the
+//! image, only the cycles: `golden::scene` validates that). Each
+//! configuration is measured by the sweep ([`sweep::sweep_scene`]: the
+//! golden micro-op model, whose colours are the RTL's bit for bit and
+//! whose cycles are the compact processor's cycle for cycle and the fast
+//! one's by its barrel rule, against the truth: the f64 reference renderer
+//! at the deepest stack the hardware has and no cutoff) and priced on a
+//! Virtex-6 LX760 ([`crate::device`]). The error is the largest or the mean
 //! absolute channel difference on the 0..255 scale ([`Measure`]).
 //!
-//! "Cheapest" is [`cost_order`]: fewest cycles per pixel, then the smaller
-//! stack (less hardware), then the fast methods (smaller units), then the
-//! larger cutoff, so the answer is unique.
+//! "Cheapest" is [`Cost`]'s order ([`Cost::order`]): by device frames a
+//! second, by area (processors on the device) or by cycles, each with
+//! the same tie-breaks after it, so the answer is unique. The pick is then
+//! co-simulated on the build it is priced as ([`sweep::RtlCheck`]) before
+//! it is recommended.
 
+use crate::processor::ProcessorKind;
 use crate::sweep::{self, Config, Grid, Row, SweepError, ECP5_CLOCK_HZ};
 use golden::fp::Method;
 use golden::scene::{RenderSettings, Scene, Speedups};
@@ -50,25 +55,73 @@ impl fmt::Display for Measure {
     }
 }
 
-/// "Cheaper first": fewer cycles, then the smaller stack (STACK_DEPTH), then
-/// the fast reciprocal, then the fast square root (each the smaller unit:
-/// docs/accuracy.md, "Tuning", the area table), then the larger cutoff; a
-/// total order on the grid. Cycles decide almost always: the fast methods
-/// take a cycle less per operation, so the method tie-break is reached
-/// only by a scene that never divides or takes a root.
-pub fn cost_order(a: &Row, b: &Row) -> Ordering {
-    // Fast before exact, whatever the RTL's codes for them are.
-    let hardware = |m: Method| match m {
-        Method::Fast => 0u8,
-        Method::Exact => 1,
-    };
-    let key = |r: &Row| {
-        let c = r.config();
-        (r.frame_cycles, c.depth, hardware(c.recip), hardware(c.sqrt))
-    };
-    key(a)
-        .cmp(&key(b))
-        .then(b.weight_cutoff.total_cmp(&a.weight_cutoff))
+/// What "cheapest" means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Cost {
+    /// The most frames a second from one Virtex-6 LX760 filled with
+    /// processors of the configuration's build.
+    DeviceFps,
+    /// The least area: the most processors of the build on one LX760 (the
+    /// build's share of its binding resource), then the fewest LUTs a
+    /// processor.
+    Area,
+    /// The fewest cycles one processor takes for the frame.
+    Cycles,
+}
+
+impl fmt::Display for Cost {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Cost::DeviceFps => "device frames/s",
+            Cost::Area => "area",
+            Cost::Cycles => "cycles",
+        })
+    }
+}
+
+impl Cost {
+    /// "Cheaper first", a total order on the grid. First this cost: the
+    /// higher device frames/s; or the more processors on the device, then
+    /// the fewer LUTs a processor; or nothing more. Then, for every cost,
+    /// the tie-breaks: fewer frame cycles, the smaller stack, the fast
+    /// reciprocal, the fast square root (each the smaller unit:
+    /// docs/accuracy.md, "Tuning", the area table), the compact processor
+    /// (the smaller), the larger cutoff. Within one build device frames/s
+    /// and cycles rank alike; the method tie-break is reached only by a
+    /// scene that never divides or takes a root.
+    pub fn order(self, a: &Row, b: &Row) -> Ordering {
+        let first = match self {
+            Cost::DeviceFps => b.device_fps.total_cmp(&a.device_fps),
+            Cost::Area => b
+                .device_processors
+                .cmp(&a.device_processors)
+                .then(a.luts_per_processor.cmp(&b.luts_per_processor)),
+            Cost::Cycles => Ordering::Equal,
+        };
+        // Fast before exact, whatever the RTL's codes for them are; the
+        // compact processor before the fast one.
+        let hardware = |m: Method| match m {
+            Method::Fast => 0u8,
+            Method::Exact => 1,
+        };
+        let size = |p: ProcessorKind| match p {
+            ProcessorKind::Compact => 0u8,
+            ProcessorKind::Fast => 1,
+        };
+        let key = |r: &Row| {
+            let c = r.config();
+            (
+                r.frame_cycles,
+                c.depth,
+                hardware(c.recip),
+                hardware(c.sqrt),
+                size(c.processor),
+            )
+        };
+        first
+            .then(key(a).cmp(&key(b)))
+            .then(b.weight_cutoff.total_cmp(&a.weight_cutoff))
+    }
 }
 
 /// Why the tuner cannot run.
@@ -123,6 +176,7 @@ pub fn speedups_that_hold(scene: &Scene) -> (Speedups, Vec<(&'static str, String
 pub struct Tuned {
     pub target: f64,
     pub measure: Measure,
+    pub cost: Cost,
     /// The speed-ups that hold (on in every configuration), and why the
     /// others are off.
     pub speedups: Speedups,
@@ -150,10 +204,12 @@ impl Tuned {
         self.all.iter().find(|r| r.config() == c)
     }
 
-    /// The full build's row: the deepest stack, the correctly rounded
-    /// units, no cutoff (with the speed-ups that hold).
+    /// The full build's row on the best's processor: the deepest stack,
+    /// the correctly rounded units, no cutoff (with the speed-ups that
+    /// hold).
     pub fn full(&self) -> Option<&Row> {
         let full = Config {
+            processor: self.best()?.processor,
             speedups: self.speedups,
             ..Config::full()
         };
@@ -175,34 +231,66 @@ impl Tuned {
             .iter()
             .min_by(|a, b| self.error(a).total_cmp(&self.error(b)))
     }
+
+    /// Co-simulates the best configuration of `scene` (named `name`) on
+    /// the RTL build it is priced as ([`sweep::RtlCheck`]: every pixel
+    /// where its frame differs from the full configuration's, and
+    /// `options.sample` more) and fills in its RTL columns. `total` is
+    /// called first with the pixels to come, `progress` with pixels
+    /// finished. None when nothing meets the target.
+    pub fn confirm(
+        &mut self,
+        name: &str,
+        scene: &Scene,
+        options: &sweep::ConfirmOptions,
+        total: &dyn Fn(u64),
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Option<(sweep::RtlCheck, crate::compare::CompareReport)>, TuneError> {
+        let Some(i) = self.best else {
+            return Ok(None);
+        };
+        let full = sweep::full_frame(name, scene)?;
+        let check = sweep::RtlCheck::plan(name, scene, &self.all[i].config(), &full, options)?;
+        total(check.pixels.len() as u64);
+        let report = check.run(name, options, progress)?;
+        let row = &mut self.all[i];
+        row.differs_from_full = Some(check.differing);
+        row.rtl_pixels = Some(report.counts.pixels);
+        row.rtl_confirmed = Some(report.passed());
+        Ok(Some((check, report)))
+    }
 }
 
-/// The grid [`tune`] runs on `scene` (for a progress bar's length).
-pub fn grid(scene: &Scene) -> Grid {
-    Grid::tune(speedups_that_hold(scene).0)
+/// The grid [`tune`] runs on `scene`: [`Grid::tune`] with the speed-ups
+/// that hold, on `processors` (empty: both).
+pub fn grid(scene: &Scene, processors: &[ProcessorKind]) -> Grid {
+    let mut grid = Grid::tune(speedups_that_hold(scene).0);
+    if !processors.is_empty() {
+        grid.processors = processors.to_vec();
+    }
+    grid
 }
 
-/// Runs the grid on the current rayon pool; `progress` is called once per
-/// configuration finished. `name` names the scene in errors.
+/// Runs [`grid`] on the current rayon pool and ranks it by `cost`;
+/// `progress` is called once per configuration finished. `name` names the
+/// scene in errors.
 pub fn tune(
     name: &str,
     scene: &Scene,
     target: f64,
     measure: Measure,
+    cost: Cost,
+    processors: &[ProcessorKind],
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Tuned, TuneError> {
     let target = check_target(target)?;
     let (speedups, refused) = speedups_that_hold(scene);
-    sweep::check_costs(name, scene, &Grid::tune(speedups))?;
+    let grid = grid(scene, processors);
+    sweep::check_costs(name, scene, &grid)?;
     let truth = sweep::reference_frame(name, scene)?;
-    let swept = sweep::sweep_scene(
-        name,
-        scene,
-        &truth,
-        &Grid::tune(speedups),
-        ECP5_CLOCK_HZ,
-        progress,
-    );
+    // The front is not used: the cost ranks.
+    let axis = sweep::Axis::DeviceFps;
+    let swept = sweep::sweep_scene(name, scene, &truth, &grid, ECP5_CLOCK_HZ, axis, progress);
     if let Some(s) = swept.skipped.first() {
         // The speed-ups were checked above, so the scene accepts every
         // configuration; one it refuses is a bug to report, not to hide.
@@ -212,11 +300,12 @@ pub fn tune(
         });
     }
     let mut all = swept.rows;
-    all.sort_by(cost_order);
+    all.sort_by(|a, b| cost.order(a, b));
     let best = all.iter().position(|r| measure.of(r) <= target);
     Ok(Tuned {
         target,
         measure,
+        cost,
         speedups,
         refused,
         all,
@@ -238,14 +327,14 @@ mod tests {
         }
     }
 
-    /// A row that differs only in what `cost_order` reads; the rest is
+    /// A row that differs only in what [`Cost::order`] reads; the rest is
     /// the same placeholder everywhere.
     fn row(frame_cycles: u64, depth: u32, recip: Method, sqrt: Method, cutoff: f32) -> Row {
         Row {
             scene: "s".into(),
             width: 1,
             height: 1,
-            processor: crate::processor::ProcessorKind::Compact,
+            processor: ProcessorKind::Compact,
             recip: recip.name(),
             sqrt: sqrt.name(),
             depth,
@@ -280,59 +369,125 @@ mod tests {
         }
     }
 
-    /// The documented rule (docs/accuracy.md, "Tuning"): fewest cycles,
-    /// then the smaller STACK_DEPTH, then the fast methods (recip before
-    /// sqrt), then the larger cutoff. Each pair below ties on every key
-    /// before the one it tests; the list is in the documented order and
-    /// is shuffled before sorting.
-    #[test]
-    fn cost_order_is_the_documented_tie_break() {
-        use Method::{Exact, Fast};
-        let cheapest_first = [
-            row(100, 8, Exact, Exact, 0.0),       // fewer cycles beat everything
-            row(101, 3, Exact, Exact, 0.0),       // then the smaller stack
-            row(101, 4, Fast, Exact, 0.0),        // then the fast reciprocal
-            row(101, 4, Exact, Fast, 1.0 / 4.0),  // then the fast square root
-            row(101, 4, Exact, Exact, 1.0 / 2.0), // then the larger cutoff
-            row(101, 4, Exact, Exact, 1.0 / 16.0),
-            row(101, 4, Exact, Exact, 0.0),
-        ];
+    /// A compact-processor row at `frame_cycles`, `processors` a device
+    /// of `luts` LUTs each, drawing `fps` frames a second.
+    fn priced(frame_cycles: u64, fps: f64, processors: u32, luts: u32) -> Row {
+        Row {
+            device_fps: fps,
+            device_processors: processors,
+            luts_per_processor: luts,
+            ..row(frame_cycles, 8, Method::Exact, Method::Exact, 0.0)
+        }
+    }
+
+    /// Sorts `cheapest_first` by `cost` from every rotation of it,
+    /// reversed, and checks it comes back in its own order.
+    fn assert_ranks(cost: Cost, cheapest_first: &[Row]) {
         let labels = |rows: &[Row]| -> Vec<String> {
             rows.iter()
-                .map(|r| format!("{} cycles, {}", r.frame_cycles, r.config().label()))
+                .map(|r| {
+                    format!(
+                        "{} cycles, {} fps, {} processors of {} LUTs, {}",
+                        r.frame_cycles,
+                        r.device_fps,
+                        r.device_processors,
+                        r.luts_per_processor,
+                        r.config().label()
+                    )
+                })
                 .collect()
         };
         for rotation in 0..cheapest_first.len() {
             let mut rows = cheapest_first.to_vec();
             rows.rotate_left(rotation);
             rows.reverse();
-            rows.sort_by(cost_order);
+            rows.sort_by(|a, b| cost.order(a, b));
             assert_eq!(
                 labels(&rows),
-                labels(&cheapest_first),
-                "rotated by {rotation}"
+                labels(cheapest_first),
+                "{cost}, rotated by {rotation}"
             );
+        }
+    }
+
+    /// The documented rule (docs/accuracy.md, "Tuning") by cycles: fewest
+    /// cycles, then the smaller STACK_DEPTH, then the fast methods (recip
+    /// before sqrt), then the compact processor, then the larger cutoff.
+    /// Each pair below ties on every key before the one it tests; the
+    /// list is in the documented order and is shuffled before sorting.
+    /// Every cost ends in these tie-breaks.
+    #[test]
+    fn cost_order_is_the_documented_tie_break() {
+        use Method::{Exact, Fast};
+        let on_fast = |r: Row| Row {
+            processor: ProcessorKind::Fast,
+            ..r
+        };
+        let cheapest_first = [
+            row(100, 8, Exact, Exact, 0.0),        // fewer cycles beat everything
+            row(101, 3, Exact, Exact, 0.0),        // then the smaller stack
+            row(101, 4, Fast, Exact, 0.0),         // then the fast reciprocal
+            row(101, 4, Exact, Fast, 1.0 / 4.0),   // then the fast square root
+            row(101, 4, Exact, Exact, 1.0 / 64.0), // then the compact processor
+            on_fast(row(101, 4, Exact, Exact, 1.0 / 2.0)), // then the larger cutoff
+            on_fast(row(101, 4, Exact, Exact, 1.0 / 16.0)),
+            on_fast(row(101, 4, Exact, Exact, 0.0)),
+        ];
+        for cost in [Cost::Cycles, Cost::DeviceFps, Cost::Area] {
+            assert_ranks(cost, &cheapest_first);
         }
         // Fast before exact: the opposite of the RTL's codes (0 exact, 1
         // fast), which an order on the codes would follow.
         assert!(Exact.code() < Fast.code());
+        let order = |a, b| Cost::Cycles.order(&a, &b);
         assert_eq!(
-            cost_order(&row(7, 2, Fast, Fast, 0.0), &row(7, 2, Exact, Fast, 0.0)),
+            order(row(7, 2, Fast, Fast, 0.0), row(7, 2, Exact, Fast, 0.0)),
             Ordering::Less
         );
         assert_eq!(
-            cost_order(&row(7, 2, Fast, Fast, 0.0), &row(7, 2, Fast, Exact, 0.0)),
+            order(row(7, 2, Fast, Fast, 0.0), row(7, 2, Fast, Exact, 0.0)),
             Ordering::Less
         );
     }
 
+    /// Device frames/s first, then the cycles' tie-breaks; area: the more
+    /// processors on the device, then the fewer LUTs, then the cycles'.
     #[test]
-    fn the_tune_grid_has_every_depth_method_pair_and_cutoff_once() {
+    fn device_fps_and_area_rank_before_the_tie_breaks() {
+        assert_ranks(
+            Cost::DeviceFps,
+            &[
+                priced(900, 30.0, 2, 9),  // the most frames/s, however many cycles
+                priced(100, 20.0, 50, 1), // then fewer cycles break a tie
+                priced(101, 20.0, 50, 1),
+            ],
+        );
+        assert_ranks(
+            Cost::Area,
+            &[
+                priced(900, 1.0, 50, 9),  // the most processors on the device
+                priced(900, 1.0, 40, 1),  // then the fewest LUTs
+                priced(100, 9.0, 40, 2),  // then fewer cycles
+                priced(101, 99.0, 40, 2), // (frames/s do not count)
+            ],
+        );
+        assert_ranks(
+            Cost::Cycles,
+            &[priced(100, 1.0, 1, 9), priced(101, 99.0, 99, 1)],
+        );
+    }
+
+    #[test]
+    fn the_tune_grid_has_both_processors_and_every_depth_method_pair_and_cutoff_once() {
         let g = Grid::tune(Speedups::default()).configs();
-        // Depth 1: 4 method pairs, no cutoff; depths 2..=8: 4 x 9.
-        assert_eq!(g.len(), 4 + 7 * 4 * sweep::CUTOFFS.len());
+        // Per processor, depth 1: 4 method pairs, no cutoff; depths 2..=8:
+        // 4 x 9.
+        assert_eq!(g.len(), 2 * (4 + 7 * 4 * sweep::CUTOFFS.len()));
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a), "{a:?} twice");
+        }
+        for p in [ProcessorKind::Compact, ProcessorKind::Fast] {
+            assert_eq!(g.iter().filter(|c| c.processor == p).count(), g.len() / 2);
         }
     }
 }

@@ -524,8 +524,11 @@ fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
 #[test]
 fn a_list_of_pixels_runs_on_the_fast_processor() {
     use rtcosim::cosim::{run_pixels, CosimError, CosimOptions};
+    use rtcosim::device::Build;
     use rtcosim::processor::ProcessorKind;
     let scene = Scene::reference().resized(64, 48, "test").expect("resized");
+    let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
+    let fast = Build::for_scene(ProcessorKind::Fast, recip, sqrt, true);
     // Every other pixel, backwards (out of row order): 1,536, two chunks.
     let pixels: Vec<(u32, u32)> = (0..64 * 48)
         .rev()
@@ -534,23 +537,57 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
         .collect();
     assert!(pixels.len() > 1024);
     let options = CosimOptions::default();
-    let report = run_pixels(&scene, &pixels, ProcessorKind::Fast, &options, &|_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+    let report =
+        run_pixels(&scene, &pixels, fast, &options, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
     assert!(report.passed(), "{report}");
     assert_eq!(report.counts.pixels, pixels.len() as u64);
     let faulty = CosimOptions {
         fault: Some("PRI_HALF:0x400".parse().expect("a fault")),
         ..CosimOptions::default()
     };
-    let report = run_pixels(&scene, &pixels[..40], ProcessorKind::Fast, &faulty, &|_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+    let report =
+        run_pixels(&scene, &pixels[..40], fast, &faulty, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.counts.divergent_pixels, 40, "{report}");
     let twice = [(3, 4), (5, 6), (3, 4)];
-    let err = run_pixels(&scene, &twice, ProcessorKind::Fast, &options, &|_| {})
-        .expect_err("a repeated pixel");
+    let err = run_pixels(&scene, &twice, fast, &options, &|_| {}).expect_err("a repeated pixel");
     assert_eq!(err, CosimError::Repeated { x: 3, y: 4 });
     assert_eq!(
         err.to_string(),
         "pixel (3, 4) is listed twice: the fast processor's pixels must be distinct"
     );
+    // A build the harness does not verilate for the scene is refused by
+    // name, before any pixel runs.
+    let other = |m: golden::fp::Method| golden::fp::Method::ALL.into_iter().find(|&n| n != m);
+    let not_built = [
+        (
+            Build {
+                stack_depth: 4,
+                ..fast
+            },
+            "build.rs verilates STACK_DEPTH 8 only",
+        ),
+        (
+            Build {
+                recip: other(recip).expect("two methods"),
+                ..fast
+            },
+            "its methods are not the scene's",
+        ),
+        (
+            Build {
+                processor: ProcessorKind::Compact,
+                exposure: false,
+                ..fast
+            },
+            "the compact processor is built with its exponential only",
+        ),
+    ];
+    for (build, why) in not_built {
+        let err = run_pixels(&scene, &pixels[..2], build, &options, &|_| {})
+            .expect_err("a build not verilated");
+        assert_eq!(
+            err.to_string(),
+            format!("the {build} is not a build the harness verilates for this scene: {why}")
+        );
+    }
 }

@@ -155,28 +155,30 @@ fn errors(frame: &Frame, reference: &Frame) -> (f64, f64, f64, u32) {
     )
 }
 
-/// The front by another algorithm than the sweep's pairwise test: sort by
-/// (device frames/s descending, error); walking down the frames/s, a row
-/// is on the front iff its error is below every error of strictly more
-/// frames/s and is the least at its own frames/s.
-fn front_by_sorting(points: &[(f64, f64)]) -> Vec<bool> {
+/// The front by another algorithm than the sweep's pairwise test, over
+/// points (gain on the axis, more is better; error; a tie-break, more is
+/// better): sort by gain descending, then error, then tie-break
+/// descending; walking down the gains, a row is on the front iff its
+/// error is below every error of a strictly larger gain and it is the
+/// first of its own gain in that order (least error, then largest
+/// tie-break), or equal to it.
+fn front_by_sorting(points: &[(f64, f64, f64)]) -> Vec<bool> {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| {
-        points[b]
-            .0
-            .total_cmp(&points[a].0)
-            .then(points[a].1.total_cmp(&points[b].1))
+        let (p, q) = (points[a], points[b]);
+        q.0.total_cmp(&p.0)
+            .then(p.1.total_cmp(&q.1))
+            .then(q.2.total_cmp(&p.2))
     });
     let mut on = vec![false; points.len()];
     let mut best_below = f64::INFINITY;
     let mut i = 0;
     while i < order.len() {
-        let fps = points[order[i]].0;
-        let least = points[order[i]].1;
+        let (gain, least, most) = points[order[i]];
         let mut j = i;
-        while j < order.len() && points[order[j]].0 == fps {
-            let e = points[order[j]].1;
-            on[order[j]] = e == least && e < best_below;
+        while j < order.len() && points[order[j]].0 == gain {
+            let (_, e, t) = points[order[j]];
+            on[order[j]] = e == least && t == most && e < best_below;
             j += 1;
         }
         best_below = best_below.min(least);
@@ -323,9 +325,9 @@ fn a_tiny_sweep_agrees_with_independent_computations() {
             );
         }
     }
-    let points: Vec<(f64, f64)> = rows
+    let points: Vec<(f64, f64, f64)> = rows
         .iter()
-        .map(|r| (num(r, "device_fps"), num(r, "mean_abs_error")))
+        .map(|r| (num(r, "device_fps"), num(r, "mean_abs_error"), 0.0))
         .collect();
     let front = front_by_sorting(&points);
     for (r, on) in rows.iter().zip(&front) {
@@ -431,7 +433,9 @@ fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
             text(&out.stderr)
         );
         assert!(
-            stdout.contains("RTL: each front row co-simulated on its own processor"),
+            stdout.contains(
+                "front: over (device-fps, mean error); each front row co-simulated on its own processor"
+            ),
             "{stdout}"
         );
         let (_, rows) = read_csv(&dir.join("sweep.csv"));
@@ -445,6 +449,75 @@ fn the_front_is_confirmed_on_the_fast_processor_and_a_fault_in_it_fails() {
                 .all(|r| r["rtl_confirmed"] == verdict && num(r, "rtl_pixels") >= 8.0),
             "{front:?}"
         );
+    }
+}
+
+/// `--axis luts` and `--axis dsp`: the front is over one processor's
+/// area and the error (among rows equal in both, the most device frames/s),
+/// by an independent computation; every front row is confirmed on the
+/// RTL; the chart's x is the area, without the thesis' hardware (its area
+/// is not known); sweep.json names the axis.
+#[test]
+fn an_area_axis_puts_the_front_on_luts_or_dsps() {
+    for (axis, column, title) in [
+        ("luts", "luts_per_processor", "slice LUTs of one processor"),
+        (
+            "dsp",
+            "dsp_per_processor",
+            "DSP48E1 slices of one processor",
+        ),
+    ] {
+        let dir = scratch("sweep", &format!("axis-{axis}"));
+        // Depth 1 as well as 2: the fastest rows, on the frames/s front,
+        // are no smaller than depth 2's and worse.
+        let out = small_sweep(&dir, &["--axis", axis, "--depths", "1"]);
+        let stdout = text(&out.stdout);
+        assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
+        assert!(
+            stdout.contains(&format!("front: over ({axis}, mean error); ")),
+            "{stdout}"
+        );
+        let (_, rows) = read_csv(&dir.join("sweep.csv"));
+        let points: Vec<(f64, f64, f64)> = rows
+            .iter()
+            .map(|r| {
+                (
+                    -num(r, column),
+                    num(r, "mean_abs_error"),
+                    num(r, "device_fps"),
+                )
+            })
+            .collect();
+        let front = front_by_sorting(&points);
+        for (r, on) in rows.iter().zip(&front) {
+            assert_eq!(r["pareto"], on.to_string(), "{axis}: {r:?}");
+            if *on {
+                assert_eq!(r["rtl_confirmed"], "true", "{axis}: {r:?}");
+            }
+        }
+        // Not the frames/s front.
+        let fps: Vec<(f64, f64, f64)> = rows
+            .iter()
+            .map(|r| (num(r, "device_fps"), num(r, "mean_abs_error"), 0.0))
+            .collect();
+        assert_ne!(front, front_by_sorting(&fps), "{axis}");
+        // The least area of the grid is on the front.
+        let least = points.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            rows.iter()
+                .zip(&front)
+                .any(|(r, on)| *on && -num(r, column) == least),
+            "{axis}"
+        );
+        let svg = std::fs::read_to_string(dir.join("chart-reference.svg")).expect("the SVG");
+        assert!(
+            svg.contains(title) && !svg.contains("thesis: 2 processors"),
+            "{axis}: {svg}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).expect("sweep.json"))
+                .expect("valid JSON");
+        assert_eq!(json["scenes"][0]["axis"], axis);
     }
 }
 
@@ -491,7 +564,8 @@ fn refused_configurations_are_skipped_and_counted() {
 #[test]
 fn bad_arguments_are_refused_naming_the_flag() {
     let dir = scratch("sweep", "bad");
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
+        (&["--axis", "area"], "--axis"),
         (&["--depths", "0,9"], "--depths"),
         (&["--scene", "no-such-scene"], "no-such-scene"),
         (&["--clock-mhz", "0"], "--clock-mhz"),

@@ -6,9 +6,11 @@ use clap::ValueEnum;
 use golden::fp::Method;
 use golden::scene::{Scene, MAX_IMAGE_SIDE};
 use golden::window::Window;
-use rtcosim::pixel_proc::{parse_number, Fault};
+use rtcosim::cosim::CosimOptions;
+use rtcosim::pixel_proc::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::scenes::{self, Overrides};
 use rtcosim::shard::Shard;
+use rtcosim::sweep::ConfirmOptions;
 use std::path::Path;
 
 /// The scene and what a command line may change in it.
@@ -60,6 +62,41 @@ impl ThreadsArgs {
             builder = builder.num_threads(usize::from(threads));
         }
         builder.build().context("starting the worker threads")
+    }
+}
+
+/// How a configuration is checked on the RTL (`sweep`: each front row;
+/// `tune`: its pick).
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq)]
+pub struct RtlCheckArgs {
+    /// Random pixels a configuration is co-simulated on, besides every
+    /// pixel where its frame differs from the full configuration's.
+    #[arg(long, value_name = "N", default_value_t = 256)]
+    pub sample: u64,
+    /// Seed of that sample.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Self-test: inject a bit flip into the RTL's writes in state STATE
+    /// (see `cosim --fault`), so the check must fail (exit 1).
+    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
+    pub fault: Option<Fault>,
+    /// Cycles a pixel may take before the RTL counts as hung.
+    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES,
+          value_parser = parse_cycles)]
+    pub timeout_cycles: u64,
+}
+
+impl RtlCheckArgs {
+    pub fn options(&self) -> ConfirmOptions {
+        ConfirmOptions {
+            sample: self.sample,
+            seed: self.seed,
+            cosim: CosimOptions {
+                fault: self.fault,
+                timeout_cycles: self.timeout_cycles,
+                keep_frames: false,
+            },
+        }
     }
 }
 

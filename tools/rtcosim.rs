@@ -90,11 +90,13 @@ enum Command {
     /// Compare two trace files and name the first divergent state in the
     /// Verilog and the Rust (the same as the `trace-diff` binary).
     TraceDiff(trace_diff::TraceDiffArgs),
-    /// Find the cheapest configuration (stack depth, float methods, weight
-    /// cutoff, with every speed-up whose precondition holds) whose frame is
-    /// within --max-error of the f64 reference, say why, and print its RTL
-    /// build parameters. Exits 0 with an answer, 1 if nothing meets the
-    /// target, 2 on an error (a bad --max-error is one).
+    /// Find the cheapest configuration (processor, stack depth, float
+    /// methods, weight cutoff, with every speed-up whose precondition
+    /// holds) whose frame is within --max-error of the f64 reference, by
+    /// device frames/s, area or cycles; say why; co-simulate the build it
+    /// runs on before recommending it. Exits 0 with a recommendation, 1 if
+    /// nothing meets the target or the RTL disagrees, 2 on an error (a bad
+    /// --max-error is one).
     Tune(tune::TuneArgs),
 }
 

@@ -1,18 +1,15 @@
 //! `rtcosim sweep`: speed against accuracy over the grid of configurations.
 
-use crate::args::{
-    parse_cutoff, parse_cycles, parse_fault, parse_size, ShardArgs, Size, ThreadsArgs,
-};
+use crate::args::{parse_cutoff, parse_size, RtlCheckArgs, ShardArgs, Size, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
-use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::processor::ProcessorKind;
 use rtcosim::scenes::{self, Overrides};
 use rtcosim::shard::file::{self as shard_file, ShardFile};
 use rtcosim::shard::Shard;
 use rtcosim::sweep::run::{self, NamedScene, RunConfig, ShardResult};
-use rtcosim::sweep::{self, chart, Row, SceneSweep, ECP5_CLOCK_HZ};
+use rtcosim::sweep::{self, chart, Axis, Row, SceneSweep, ECP5_CLOCK_HZ};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -45,13 +42,6 @@ pub struct SweepArgs {
     /// thesis' Virtex-6 clock, which ours does not reach, is 34.74.
     #[arg(long, value_name = "MHZ", default_value_t = ECP5_CLOCK_HZ / 1e6)]
     pub clock_mhz: f64,
-    /// Random pixels each front configuration is co-simulated on, besides
-    /// every pixel where it differs from the full configuration.
-    #[arg(long, value_name = "N", default_value_t = 256)]
-    pub sample: u64,
-    /// Seed of that sample.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
     /// Do not co-simulate the front on the RTL (the RTL columns stay empty).
     #[arg(long)]
     pub no_rtl: bool,
@@ -61,14 +51,14 @@ pub struct SweepArgs {
     /// configuration's pixels through it in chunks of 1,024).
     #[arg(long, value_enum)]
     pub processor: Option<ProcessorKind>,
-    /// Self-test: inject a bit flip into the RTL's writes in state STATE
-    /// (see `cosim --fault`), so the confirmation must fail (exit 1).
-    #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
-    pub fault: Option<Fault>,
-    /// Cycles a pixel may take before the RTL counts as hung.
-    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES,
-          value_parser = parse_cycles)]
-    pub timeout_cycles: u64,
+    /// What the Pareto front and the chart's x axis weigh the error
+    /// against: device-fps, frames/s of one Virtex-6 LX760 full of the
+    /// row's processors; luts or dsp, one processor's LUTs or DSP48E1s
+    /// (its area).
+    #[arg(long, value_enum, default_value_t = Axis::DeviceFps)]
+    pub axis: Axis,
+    #[command(flatten)]
+    pub check: RtlCheckArgs,
     #[command(flatten)]
     pub threads: ThreadsArgs,
     #[command(flatten)]
@@ -108,11 +98,12 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         cutoffs: args.cutoffs.clone(),
         clock_mhz: args.clock_mhz,
         rtl: !args.no_rtl,
-        sample: args.sample,
-        seed: args.seed,
-        fault: args.fault.map(|f| f.to_string()),
-        timeout_cycles: args.timeout_cycles,
+        sample: args.check.sample,
+        seed: args.check.seed,
+        fault: args.check.fault.map(|f| f.to_string()),
+        timeout_cycles: args.check.timeout_cycles,
         processors: args.processor.map(|p| vec![p]).unwrap_or_default(),
+        axis: args.axis,
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     // Every path, the whole run's and a shard's, reads the scenes back
@@ -250,21 +241,29 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64, rtl: bool) 
         rtcosim::device::Device::LX760.name,
         sweep::clock_source(clock_mhz)
     )?;
-    if rtl {
-        writeln!(out, "RTL: each front row co-simulated on its own processor")?;
-    }
     writeln!(
         out,
-        "| processor | depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | processors x MHz | device frames/s | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",
+        "front: over ({}, mean error){}",
+        s.axis.name(),
+        if rtl {
+            "; each front row co-simulated on its own processor"
+        } else {
+            ""
+        }
+    )?;
+    writeln!(
+        out,
+        "| processor | depth | recip | sqrt | speed-ups | cutoff | cycles/pixel | LUTs | DSP | processors x MHz | device frames/s | {} | mean err | max err | px > 0.5 | max ULP | front | RTL pixels | RTL |",
         sweep::fps_header(clock_mhz)
     )?;
     writeln!(
         out,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     )?;
     let thesis = s.thesis();
     let mut shown: Vec<&Row> = s.rows.iter().filter(|r| r.pareto).collect();
-    shown.sort_by(|a, b| a.device_fps.total_cmp(&b.device_fps));
+    // Worst on the axis first, down to the best.
+    shown.sort_by(|a, b| s.axis.gain(a).total_cmp(&s.axis.gain(b)));
     if let Some(t) = thesis.filter(|t| !t.pareto) {
         shown.push(t);
     }
@@ -277,7 +276,7 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64, rtl: bool) 
         let mark = if Some(r) == thesis { " (thesis)" } else { "" };
         writeln!(
             out,
-            "| {} | {} | {} | {} | {}{mark} | {} | {:.2} | {} x {} | {:.3} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
+            "| {} | {} | {} | {} | {}{mark} | {} | {:.2} | {} | {} | {} x {} | {:.3} | {:.4} | {:.3e} | {:.4} | {:.3}% | {} | {} | {} | {rtl} |",
             r.processor,
             r.depth,
             r.recip,
@@ -285,6 +284,8 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64, rtl: bool) 
             sweep::speedup_label(r.config().speedups),
             r.weight_cutoff,
             r.cycles_per_pixel,
+            r.luts_per_processor,
+            r.dsp_per_processor,
             r.device_processors,
             r.device_clock_mhz,
             r.device_fps,

@@ -1,17 +1,22 @@
 //! `rtcosim tune`: the cheapest configuration that renders a scene within
-//! an error target (harness/tune.rs), why, its RTL build parameters, and
-//! with --area the register file it needs against the full build's.
+//! an error target by a chosen cost (harness/tune.rs), why, the build it
+//! runs on co-simulated before it is recommended, and with --area the
+//! register file it needs against the full build's.
 
-use crate::args::{SceneArgs, ThreadsArgs};
+use crate::args::{RtlCheckArgs, SceneArgs, ThreadsArgs};
 use crate::ui::{progress_bar, progress_spinner};
 use anyhow::{Context, Result};
 use golden::fp::Method;
 use golden::scene::MAX_DEPTH;
 use rtcosim::area::{self, FloatUnit, UnitArea, Yosys};
-use rtcosim::sweep::{Config, Row, CUTOFFS};
-use rtcosim::tune::{self, Measure, Tuned};
+use rtcosim::compare::CompareReport;
+use rtcosim::device::{CostTable, BUILT_STACK_DEPTH};
+use rtcosim::processor::ProcessorKind;
+use rtcosim::sweep::{Config, Row, RtlCheck, CUTOFFS};
+use rtcosim::tune::{self, Cost, Measure, Tuned};
+use serde::Serialize;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct TuneArgs {
@@ -25,10 +30,26 @@ pub struct TuneArgs {
     /// or the mean.
     #[arg(long, value_enum, default_value_t = Measure::Max)]
     pub measure: Measure,
-    /// Also measure with yosys what the tuned build needs against the full
-    /// build: the register file (STACK_DEPTH; about a second) and the
-    /// reciprocal and square-root units in their methods (a synthesis of
-    /// minutes per unit the first time, then cached under target/).
+    /// What "cheapest" means: device-fps, the most frames a second from one
+    /// Virtex-6 LX760 filled with the build's processors; area, the most
+    /// processors on it (then the fewest LUTs each); cycles, the fewest
+    /// cycles one processor takes for the frame.
+    #[arg(long, value_enum, default_value_t = Cost::DeviceFps)]
+    pub cost: Cost,
+    /// Tune one pixel processor only: compact or fast (default: both).
+    #[arg(long, value_enum)]
+    pub processor: Option<ProcessorKind>,
+    #[command(flatten)]
+    pub check: RtlCheckArgs,
+    /// Also write the answer as JSON to FILE: the pick's and the full
+    /// build's rows (sweep.csv's columns), the build, its cost and its
+    /// check on the RTL.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Also measure with yosys what the tuned compact build needs against
+    /// the full build: the register file (STACK_DEPTH; about a second) and
+    /// the reciprocal and square-root units in their methods (a synthesis
+    /// of minutes per unit the first time, then cached under target/).
     #[arg(long)]
     pub area: bool,
     #[command(flatten)]
@@ -43,59 +64,171 @@ fn parse_target(s: &str) -> Result<f64, String> {
     tune::check_target(e).map_err(|err| err.to_string())
 }
 
-/// Runs the grid; Ok(false) when no configuration meets the target.
+/// The answer as `--json` writes it.
+#[derive(Serialize)]
+struct Answer<'a> {
+    scene: &'a str,
+    width: u32,
+    height: u32,
+    measure: &'a str,
+    max_error: f64,
+    cost: &'a str,
+    configurations: usize,
+    /// Whether the pick met the target and its build agreed with golden.
+    recommended: bool,
+    pick: Option<&'a Row>,
+    full: Option<&'a Row>,
+    build: Option<String>,
+    build_cost: Option<&'a rtcosim::device::Cost>,
+    rtl: Option<RtlAnswer>,
+}
+
+/// The pick's check on the RTL, for `--json`.
+#[derive(Serialize)]
+struct RtlAnswer {
+    pixels: u64,
+    differing_from_full: u64,
+    divergent_pixels: u64,
+    agreed: bool,
+}
+
+/// Runs the grid and checks the pick on the RTL; Ok(false) when no
+/// configuration meets the target or the RTL disagrees with golden on it.
 pub fn run(args: TuneArgs) -> Result<bool> {
     let scene = args.scene.load()?;
     let pool = args.threads.pool()?;
+    let processors: Vec<ProcessorKind> = args.processor.into_iter().collect();
     let bar = progress_bar(
-        tune::grid(&scene).configs().len() as u64,
+        tune::grid(&scene, &processors).configs().len() as u64,
         "tuning   ",
         "{pos}/{len} configurations ({eta})",
     )?;
-    let tuned = pool.install(|| {
+    let mut tuned = pool.install(|| {
         tune::tune(
             &args.scene.scene,
             &scene,
             args.max_error,
             args.measure,
+            args.cost,
+            &processors,
             &|n| bar.inc(n),
         )
     })?;
     bar.finish_and_clear();
+    let options = args.check.options();
+    let bar = progress_bar(0, "rtl check", "{pos}/{len} pixels ({eta})")?;
+    let checked = pool.install(|| {
+        tuned.confirm(
+            &args.scene.scene,
+            &scene,
+            &options,
+            &|n| bar.set_length(n),
+            &|n| bar.inc(n),
+        )
+    })?;
+    bar.finish_and_clear();
+
     let out = &mut std::io::stdout().lock();
     writeln!(
         out,
-        "scene {} ({}x{}), {} error <= {} (0..255 scale) against the f64 reference at depth {MAX_DEPTH}, no cutoff; {} configurations",
+        "scene {} ({}x{}), {} error <= {} (0..255 scale) against the f64 reference at depth {MAX_DEPTH}, no cutoff; {} configurations on {}, cheapest by {}",
         args.scene.scene,
         scene.camera.width,
         scene.camera.height,
         args.measure,
         args.max_error,
-        tuned.all.len()
+        tuned.all.len(),
+        match args.processor {
+            Some(p) => format!("the {p} processor"),
+            None => "both processors".into(),
+        },
+        args.cost
     )?;
-    let Some(best) = tuned.best() else {
-        let closest = tuned.most_accurate().context("an empty grid")?;
-        writeln!(
-            out,
-            "no configuration meets the target: the most accurate is {} with {} error {:.4}",
-            closest.config().label(),
-            args.measure,
-            tuned.error(closest)
-        )?;
-        return Ok(false);
+    let recommended = match (tuned.best(), &checked) {
+        (Some(best), Some((check, report))) => {
+            explain(out, &tuned, best)?;
+            let cost = CostTable::builtin_ref()?.cost(check.build)?;
+            rtl_build(out, &best.config(), check, cost)?;
+            rtl_check(out, check, report, &options)?
+        }
+        _ => {
+            let closest = tuned.most_accurate().context("an empty grid")?;
+            writeln!(
+                out,
+                "no configuration meets the target: the most accurate is {} with {} error {:.4}",
+                closest.config().label(),
+                args.measure,
+                tuned.error(closest)
+            )?;
+            false
+        }
     };
-    explain(out, &tuned, best)?;
-    if args.area {
+    if let Some(path) = &args.json {
+        write_json(path, &args, &scene, &tuned, checked.as_ref(), recommended)?;
+    }
+    if recommended && args.area {
+        let best = tuned.best().context("a pick")?;
         area(out, &best.config())?;
     }
-    Ok(true)
+    Ok(recommended)
+}
+
+fn write_json(
+    path: &Path,
+    args: &TuneArgs,
+    scene: &golden::scene::Scene,
+    tuned: &Tuned,
+    checked: Option<&(RtlCheck, CompareReport)>,
+    recommended: bool,
+) -> Result<()> {
+    let table = CostTable::builtin_ref()?;
+    let answer = Answer {
+        scene: &args.scene.scene,
+        width: scene.camera.width,
+        height: scene.camera.height,
+        measure: match args.measure {
+            Measure::Max => "max",
+            Measure::Mean => "mean",
+        },
+        max_error: args.max_error,
+        cost: match args.cost {
+            Cost::DeviceFps => "device-fps",
+            Cost::Area => "area",
+            Cost::Cycles => "cycles",
+        },
+        configurations: tuned.all.len(),
+        recommended,
+        pick: tuned.best(),
+        full: tuned.full(),
+        build: checked.map(|(c, _)| c.build.instance()),
+        build_cost: checked.map(|(c, _)| table.cost(c.build)).transpose()?,
+        rtl: checked.map(|(c, r)| RtlAnswer {
+            pixels: r.counts.pixels,
+            differing_from_full: c.differing,
+            divergent_pixels: r.counts.divergent_pixels,
+            agreed: r.passed(),
+        }),
+    };
+    let text = serde_json::to_string_pretty(&answer).context("the answer as JSON")?;
+    std::fs::write(path, text + "\n").with_context(|| format!("--json {}", path.display()))
+}
+
+/// One processor's cycles for the frame, a pixel: the compact
+/// processor's mean pixel; the fast one's throughput with 32 pixels in
+/// flight (not a pixel's latency, sweep.csv's `cycles_per_pixel`).
+fn frame_cycles_per_pixel(r: &Row) -> f64 {
+    r.frame_cycles as f64 / (f64::from(r.width) * f64::from(r.height))
 }
 
 fn line(r: &Row) -> String {
     format!(
-        "{}: {:.1} cycles/pixel, largest error {:.4}, mean {:.5}",
+        "{}: {:.1} device frames/s ({} processors at {:.1} MHz, bound by {}), {:.1} cycles/pixel, largest error {:.4}, mean {:.5}",
         r.config().label(),
-        r.cycles_per_pixel,
+        r.device_fps,
+        r.device_processors,
+        r.device_clock_mhz,
+        r.device_binding,
+        frame_cycles_per_pixel(r),
         r.max_abs_error,
         r.mean_abs_error
     )
@@ -106,11 +239,26 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
     let full = t.full().context("the full build is in the grid")?;
     writeln!(out, "cheapest: {}", line(best))?;
     writeln!(out, "full build: {}", line(full))?;
-    writeln!(
-        out,
-        "saves {:.1}% of the cycles",
-        100.0 * (1.0 - best.cycles_per_pixel / full.cycles_per_pixel)
-    )?;
+    match t.cost {
+        Cost::DeviceFps => writeln!(
+            out,
+            "draws {:.2}x the full build's device frames/s",
+            best.device_fps / full.device_fps
+        )?,
+        Cost::Area => writeln!(
+            out,
+            "{} processors on the device against the full build's {}, {} LUTs each against {}",
+            best.device_processors,
+            full.device_processors,
+            best.luts_per_processor,
+            full.luts_per_processor
+        )?,
+        Cost::Cycles => writeln!(
+            out,
+            "saves {:.1}% of the cycles",
+            100.0 * (1.0 - best.frame_cycles as f64 / full.frame_cycles as f64)
+        )?,
+    }
     writeln!(out, "why:")?;
     let c = best.config();
     let err = |r: &Row| t.error(r);
@@ -141,9 +289,12 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
             r.config().label(),
             err(r),
             if err(r) > t.target {
-                " (misses the target)"
+                " (misses the target)".to_string()
             } else {
-                " but costs more cycles (two instructions per push it checks)"
+                format!(
+                    " but ranks after it by {} (it checks the weight at every push: two instructions)",
+                    t.cost
+                )
             }
         )?,
         _ => {}
@@ -163,18 +314,30 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
         if let Some(r) = other {
             writeln!(
                 out,
-                "  the other {what} method: {:+.1} cycles/pixel, {m} error {:.4}",
-                r.cycles_per_pixel - best.cycles_per_pixel,
+                "  the other {what} method: {:.1} device frames/s, {:+.1} cycles/pixel, {m} error {:.4}",
+                r.device_fps,
+                frame_cycles_per_pixel(r) - frame_cycles_per_pixel(best),
                 err(r)
             )?;
         }
     }
+    let flipped = |p: ProcessorKind| match p {
+        ProcessorKind::Compact => ProcessorKind::Fast,
+        ProcessorKind::Fast => ProcessorKind::Compact,
+    };
+    if let Some(r) = t.neighbour(|x| x.processor = flipped(x.processor)) {
+        writeln!(
+            out,
+            "  the same on the {} processor (the same image): {}",
+            r.processor,
+            line(r)
+        )?;
+    }
     if let Some(r) = t.best_cheaper() {
         writeln!(
             out,
-            "  the most accurate cheaper configuration, {}, costs {:.1} cycles/pixel less but has {m} error {:.4} > {}",
-            r.config().label(),
-            best.cycles_per_pixel - r.cycles_per_pixel,
+            "  the most accurate cheaper configuration, {}, has {m} error {:.4} > {}",
+            line(r),
             err(r),
             t.target
         )?;
@@ -190,20 +353,28 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
     for (name, why) in &t.refused {
         writeln!(out, "  {name} off: {why}")?;
     }
-    rtl_parameters(out, &c)
+    Ok(())
 }
 
-fn rtl_parameters(out: &mut impl Write, c: &Config) -> Result<()> {
-    let param = |m| match m {
-        Method::Exact => "`FP_METHOD_EXACT",
-        Method::Fast => "`FP_METHOD_FAST",
-    };
+/// The build the pick runs on and is priced as, its cost, and the scene's
+/// settings for it.
+fn rtl_build(
+    out: &mut impl Write,
+    c: &Config,
+    check: &RtlCheck,
+    cost: &rtcosim::device::Cost,
+) -> Result<()> {
+    writeln!(out, "RTL build: {}", check.build.instance())?;
     writeln!(
         out,
-        "RTL build: pixel_processor #(.STACK_DEPTH({}), .RECIP_METHOD({}), .SQRT_METHOD({}))",
-        c.depth,
-        param(c.recip),
-        param(c.sqrt)
+        "its cost (rtl/synth/costs.toml, {}): {} LUTs ({} as memory), {} flip-flops, {} DSP48E1, {} block RAM36, clock estimate {:.1} MHz",
+        cost.source.kind(),
+        cost.luts,
+        cost.lut_memory,
+        cost.flip_flops,
+        cost.dsp48e1,
+        cost.bram36,
+        cost.fmax_mhz
     )?;
     writeln!(
         out,
@@ -216,34 +387,56 @@ fn rtl_parameters(out: &mut impl Write, c: &Config) -> Result<()> {
         c.speedups.fast_plane,
         c.speedups.shadow_shortcut
     )?;
-    writeln!(out, "{}", build_checked(c))?;
+    if c.depth < BUILT_STACK_DEPTH {
+        writeln!(
+            out,
+            "STACK_DEPTH {BUILT_STACK_DEPTH} is the build priced and co-simulated: max_depth = {} uses {} of its levels. A build with STACK_DEPTH {} would hold less (tune --area measures the compact register file), but rtcosim neither prices nor verilates it.",
+            c.depth, c.depth, c.depth
+        )?;
+    }
     Ok(())
 }
 
-/// Whether rtcosim itself builds and co-simulates the recommended RTL
-/// build, and if not, the command that lints it. build.rs verilates the
-/// pixel processor at its default `STACK_DEPTH` ([`MAX_DEPTH`]) only, once
-/// per method pair: a shallower stack is simulated there through the
-/// scene's `max_depth`, never as the build recommended.
-fn build_checked(c: &Config) -> String {
-    if c.depth == MAX_DEPTH {
-        format!(
-            "RTL build verilated and co-simulated: yes, as `rtcosim cosim --recip {} --sqrt {}` runs it (STACK_DEPTH {MAX_DEPTH}); tune itself renders only the micro-op model",
-            c.recip.name(),
-            c.sqrt.name()
-        )
+/// Prints the pick's check on the RTL; whether it agreed (the pick is
+/// recommended only then).
+fn rtl_check(
+    out: &mut impl Write,
+    check: &RtlCheck,
+    report: &CompareReport,
+    options: &rtcosim::sweep::ConfirmOptions,
+) -> Result<bool> {
+    let n = report.counts.pixels;
+    let drawn = n.saturating_sub(check.differing);
+    writeln!(
+        out,
+        "co-simulated on the RTL ({}): {n} pixels, {} where the frame differs from the full build's and {drawn} more drawn with seed {}",
+        check.build, check.differing, options.seed
+    )?;
+    if report.passed() {
+        writeln!(
+            out,
+            "RTL and golden agree on all {n}, bit for bit and cycle for cycle: recommended"
+        )?;
+        Ok(true)
     } else {
-        format!(
-            "RTL build NOT verilated, linted or co-simulated by rtcosim: build.rs verilates STACK_DEPTH {MAX_DEPTH} only (the co-simulation runs it with max_depth = {} in the scene); lint this build with: verilator --lint-only -Wall -Irtl/fp -Irtl/pp rtl/fp/*.v rtl/pp/*.v --top-module pixel_processor -GSTACK_DEPTH={} -GRECIP_METHOD={} -GSQRT_METHOD={}",
-            c.depth,
-            c.depth,
-            c.recip.code(),
-            c.sqrt.code()
-        )
+        writeln!(out, "{report}")?;
+        writeln!(
+            out,
+            "NOT recommended: the RTL build disagrees with golden on {} of {n} pixels",
+            report.counts.divergent_pixels
+        )?;
+        Ok(false)
     }
 }
 
 fn area(out: &mut impl Write, tuned: &Config) -> Result<()> {
+    if tuned.processor != ProcessorKind::Compact {
+        writeln!(
+            out,
+            "area: the fast processor's build is priced by the cost table above; --area's yosys measurements are of the compact processor's register file and float units"
+        )?;
+        return Ok(());
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let yosys = Yosys::new();
     let depth = tuned.depth;

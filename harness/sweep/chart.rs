@@ -1,8 +1,9 @@
 //! The speed-against-accuracy chart of one scene's sweep, drawn with
 //! plotters as SVG and PNG.
 //!
-//! x: frames per second of one Virtex-6 LX760 filled with processors of
-//! the row's build ([`crate::device`]), log scale; y: mean absolute error
+//! x: the sweep's [`Axis`]: frames per second of one Virtex-6 LX760 filled
+//! with processors of the row's build ([`crate::device`]), log scale; or
+//! one processor's LUTs or DSP48E1s, linear from 0; y: mean absolute error
 //! against the f64 reference on the 0..255 scale, log scale. The mean, not the largest
 //! error, because it weighs the whole frame: the largest error is one
 //! pixel's, decided by rounding luck at an edge, and jumps between
@@ -16,7 +17,8 @@
 //! green square a front point the RTL confirmed (bit- and cycle-exact on
 //! its sampled pixels), a red cross one it did not, the orange triangle
 //! the thesis' hardware ([`super::THESIS_DEVICE`]) at its configuration's
-//! error.
+//! error (on the frames/s axis only: the area of its processors, built
+//! from Xilinx IP cores, is not known).
 //!
 //! Text: plotters' own text rendering needs its `ttf` feature (font-kit,
 //! which needs fontconfig and freetype) or `ab_glyph` with font bytes from
@@ -27,7 +29,7 @@
 //! [`golden::diffmap::font`]). Both files carry
 //! the same labels at the same places.
 
-use super::{Row, SceneSweep, SweepError};
+use super::{Axis, Row, SceneSweep, SweepError};
 use crate::processor::ProcessorKind;
 use golden::diffmap::font;
 use plotters::coord::Shift;
@@ -132,10 +134,9 @@ pub fn write(sweep: &SceneSweep, svg: &Path, png: &Path) -> Result<(), SweepErro
         .map_err(|e| err(png)(e.to_string()))
 }
 
-/// The front as steps, `points` fastest first: from each point left at its
-/// error to the next point's frames/s, then down to that point's error
-/// (with fewer frames/s, a front point's error is what can be had until
-/// the next point).
+/// The front as steps, `points` best on the axis first: from each point
+/// at its error across to the next point's x, then down to that point's
+/// error (a front point's error is what can be had until the next point).
 fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let mut path = Vec::new();
     for (i, &(x, y)) in points.iter().enumerate() {
@@ -182,7 +183,6 @@ fn fps_decades(rows: &[Row], thesis: Option<f64>) -> (i32, i32) {
 }
 
 /// Ticks at 1, 2 or 5 times a power of ten, about six across [lo, hi].
-#[cfg(test)]
 fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let raw = (hi - lo) / 6.0;
     let mag = 10f64.powf(raw.log10().floor());
@@ -196,6 +196,67 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     (first..=last).map(|k| k as f64 * step).collect()
 }
 
+/// The chart's x: where a value of the sweep's [`Axis`] is plotted
+/// (device frames/s as its log10, so that one linear coordinate serves
+/// both scales), the range, the ticks (position, label) and the title.
+struct XScale {
+    axis: Axis,
+    lo: f64,
+    hi: f64,
+    ticks: Vec<(f64, String)>,
+}
+
+impl XScale {
+    fn new(axis: Axis, rows: &[Row], thesis_fps: Option<f64>) -> XScale {
+        match axis {
+            Axis::DeviceFps => {
+                let (f0, f1) = fps_decades(rows, thesis_fps);
+                XScale {
+                    axis,
+                    lo: f64::from(f0),
+                    hi: f64::from(f1),
+                    ticks: (f0..=f1)
+                        .map(|d| (f64::from(d), format!("{}", 10f64.powi(d))))
+                        .collect(),
+                }
+            }
+            Axis::Luts | Axis::Dsp => {
+                let most = rows.iter().map(|r| axis.value(r)).fold(1.0, f64::max);
+                let hi = most * 1.1;
+                XScale {
+                    axis,
+                    lo: 0.0,
+                    hi,
+                    ticks: ticks(0.0, hi)
+                        .into_iter()
+                        .map(|t| (t, format!("{t}")))
+                        .collect(),
+                }
+            }
+        }
+    }
+
+    /// Where `value` is plotted, clamped into the range.
+    fn at(&self, value: f64) -> f64 {
+        let x = match self.axis {
+            Axis::DeviceFps => value.log10(),
+            Axis::Luts | Axis::Dsp => value,
+        };
+        x.clamp(self.lo, self.hi)
+    }
+
+    fn title(&self) -> String {
+        let device = crate::device::Device::LX760.name;
+        match self.axis {
+            Axis::DeviceFps => {
+                format!("frames/s of one {device} full of the row's processors (log)")
+            }
+            Axis::Luts => "slice LUTs of one processor of the row's build (Virtex-6)".into(),
+            Axis::Dsp => "DSP48E1 slices of one processor of the row's build (Virtex-6)".into(),
+        }
+    }
+}
+
 /// Draws the shapes of the chart of `sweep` on `root` and returns its
 /// labels (drawn by the caller, see the module doc).
 fn draw<DB: DrawingBackend>(
@@ -207,31 +268,33 @@ fn draw<DB: DrawingBackend>(
     let rows = &sweep.rows;
     let (d0, d1) = decades(rows);
     let (y0, y1) = (10f64.powi(d0), 10f64.powi(d1));
-    let thesis_row = sweep.thesis().filter(|t| error(t).is_some());
+    // The thesis' hardware is placed on the frames/s axis only.
+    let thesis_row = sweep
+        .thesis()
+        .filter(|t| error(t).is_some() && sweep.axis == Axis::DeviceFps);
     let thesis_fps = thesis_row.map(|t| super::THESIS_DEVICE.frames_per_second(t.width * t.height));
-    let (f0, f1) = fps_decades(rows, thesis_fps);
-    let (c0, c1) = (10f64.powi(f0), 10f64.powi(f1));
+    let x = XScale::new(sweep.axis, rows, thesis_fps);
+    let (c0, c1) = (x.lo, x.hi);
     let mut chart = ChartBuilder::on(root)
         .margin_top(TOP)
         .margin_left(LEFT)
         .margin_right(RIGHT)
         .margin_bottom(BOTTOM)
-        .build_cartesian_2d((c0..c1).log_scale(), (y0..y1).log_scale())
+        .build_cartesian_2d(c0..c1, (y0..y1).log_scale())
         .map_err(e)?;
     let y_of = |r: &Row| error(r).map(|v| v.max(y0)).unwrap_or(y0);
-    let at = |r: &Row| (r.device_fps.clamp(c0, c1), y_of(r));
+    let at = |r: &Row| (x.at(sweep.axis.value(r)), y_of(r));
     let mut labels = Vec::new();
     let label = |text: String, (x, y): (i32, i32), anchor| Label { text, x, y, anchor };
 
     // Grid, frame and tick labels.
     let light = ShapeStyle::from(&RGBColor(225, 225, 225)).stroke_width(1);
-    for d in f0..=f1 {
-        let x = 10f64.powi(d);
+    for (at_x, text) in &x.ticks {
         chart
-            .draw_series([PathElement::new(vec![(x, y0), (x, y1)], light)])
+            .draw_series([PathElement::new(vec![(*at_x, y0), (*at_x, y1)], light)])
             .map_err(e)?;
-        let (px, py) = chart.backend_coord(&(x, y0));
-        labels.push(label(format!("{x}"), (px, py + 8), Anchor::Center));
+        let (px, py) = chart.backend_coord(&(*at_x, y0));
+        labels.push(label(text.clone(), (px, py + 8), Anchor::Center));
     }
     for d in d0..=d1 {
         let y = 10f64.powi(d);
@@ -267,12 +330,12 @@ fn draw<DB: DrawingBackend>(
         )
         .map_err(e)?;
 
-    // The front, fastest first.
+    // The front, best on the axis first.
     let mut front: Vec<&Row> = rows
         .iter()
         .filter(|r| r.pareto && error(r).is_some())
         .collect();
-    front.sort_by(|a, b| b.device_fps.total_cmp(&a.device_fps));
+    front.sort_by(|a, b| sweep.axis.gain(b).total_cmp(&sweep.axis.gain(a)));
     chart
         .draw_series(LineSeries::new(
             staircase(&front.iter().map(|r| at(r)).collect::<Vec<_>>()),
@@ -294,7 +357,7 @@ fn draw<DB: DrawingBackend>(
 
     // The thesis' hardware, at its configuration's error.
     if let (Some(t), Some(fps)) = (thesis_row, thesis_fps) {
-        let point = (fps.clamp(c0, c1), y_of(t));
+        let point = (x.at(fps), y_of(t));
         chart
             .draw_series([TriangleMarker::new(point, 9, THESIS.filled())])
             .map_err(e)?;
@@ -331,10 +394,7 @@ fn draw<DB: DrawingBackend>(
         Anchor::Left,
     ));
     labels.push(label(
-        format!(
-            "frames/s of one {} full of the row's processors (log)",
-            crate::device::Device::LX760.name
-        ),
+        x.title(),
         (
             (LEFT + (WIDTH - LEFT - RIGHT) / 2) as i32,
             (HEIGHT - BOTTOM) as i32 + 32,
@@ -353,7 +413,9 @@ fn draw<DB: DrawingBackend>(
     if front.iter().any(|r| r.rtl_confirmed == Some(false)) {
         legend.push(("RTL check failed", FAILED));
     }
-    legend.push(("thesis' hardware", THESIS));
+    if thesis_row.is_some() {
+        legend.push(("thesis' hardware", THESIS));
+    }
     let zero_text = format!("error exactly 0 ({zero}): bottom edge");
     if zero > 0 {
         legend.push((zero_text.as_str(), GREY));

@@ -9,7 +9,8 @@
 //!   [`golden::micro`] and measures it against [`golden::reference`];
 //!   configurations the scene refuses (a speed-up whose precondition it
 //!   breaks) are skipped and counted.
-//! - [`pareto_front`]: which rows no other row beats in both speed and error.
+//! - [`pareto_front`]: which rows no other row beats in both speed (or area:
+//!   [`Axis`]) and error.
 //! - [`confirm`]: each front configuration co-simulated on the RTL
 //!   ([`crate::cosim::run_pixels`]) on every pixel where its frame differs
 //!   from the [full](Config::full) configuration's, plus a seeded sample.
@@ -129,6 +130,50 @@ pub const CUTOFFS: [f32; 9] = [
 /// The cutoffs of the default sweep: off, one 8-bit step (2^-8) and 2^-4,
 /// three points of [`CUTOFFS`] that keep the grid at 1,408 configurations.
 pub const SWEEP_CUTOFFS: [f32; 3] = [0.0, 1.0 / 256.0, 1.0 / 16.0];
+
+/// What the front and the chart's x axis weigh a configuration's error
+/// against: its speed in hardware units, or its area.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Axis {
+    /// Frames a second of one Virtex-6 LX760 filled with the row's
+    /// processors (more is better; log scale).
+    #[default]
+    DeviceFps,
+    /// Slice LUTs of one processor of the row's build (fewer is better).
+    Luts,
+    /// DSP48E1 slices of one processor of the row's build (fewer is
+    /// better).
+    Dsp,
+}
+
+impl Axis {
+    /// The row's value on this axis.
+    pub fn value(self, r: &Row) -> f64 {
+        match self {
+            Axis::DeviceFps => r.device_fps,
+            Axis::Luts => f64::from(r.luts_per_processor),
+            Axis::Dsp => f64::from(r.dsp_per_processor),
+        }
+    }
+
+    /// The row's value, oriented so that more is better.
+    pub fn gain(self, r: &Row) -> f64 {
+        match self {
+            Axis::DeviceFps => self.value(r),
+            Axis::Luts | Axis::Dsp => -self.value(r),
+        }
+    }
+
+    /// Its name on the command line and in sweep.json.
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::DeviceFps => "device-fps",
+            Axis::Luts => "luts",
+            Axis::Dsp => "dsp",
+        }
+    }
+}
 
 /// One render configuration: what the grid varies. Everything else (the
 /// camera, the objects, any render setting this type does not name) is the
@@ -276,7 +321,6 @@ impl Grid {
     /// of [`SWEEP_CUTOFFS`]: 2 x 4 x 8 x (1 + 7 x 3) = 1,408 configurations.
     pub fn full() -> Grid {
         Grid {
-            processors: vec![ProcessorKind::Compact, ProcessorKind::Fast],
             speedups: (0..8u8)
                 .map(|bits| Speedups {
                     bounding_box: bits & 4 != 0,
@@ -289,15 +333,15 @@ impl Grid {
         }
     }
 
-    /// `tune`'s grid: the compact processor, both methods of each unit,
-    /// every depth, every cutoff of [`CUTOFFS`], and the one set of
-    /// speed-ups given (those whose preconditions the scene meets: they
-    /// change only the cycles, never the image): 4 x (1 + 7 x 9) = 256
+    /// `tune`'s grid: both processors, both methods of each unit, every
+    /// depth, every cutoff of [`CUTOFFS`], and the one set of speed-ups
+    /// given (those whose preconditions the scene meets: they change only
+    /// the cycles, never the image): 2 x 4 x (1 + 7 x 9) = 512
     /// configurations.
     pub fn tune(speedups: Speedups) -> Grid {
         let both = vec![Method::Exact, Method::Fast];
         Grid {
-            processors: vec![ProcessorKind::Compact],
+            processors: vec![ProcessorKind::Compact, ProcessorKind::Fast],
             recips: both.clone(),
             sqrts: both,
             depths: (1..=MAX_DEPTH).collect(),
@@ -460,6 +504,8 @@ pub struct SceneSweep {
     pub scene: Scene,
     pub rows: Vec<Row>,
     pub skipped: Vec<Skipped>,
+    /// The axis its front is on (and its chart's x).
+    pub axis: Axis,
 }
 
 impl SceneSweep {
@@ -555,6 +601,7 @@ pub fn sweep_scene(
     reference: &Frame,
     grid: &Grid,
     clock_hz: f64,
+    axis: Axis,
     progress: &(dyn Fn(u64) + Sync),
 ) -> SceneSweep {
     let results: Vec<Result<Row, Skipped>> = grid
@@ -566,13 +613,19 @@ pub fn sweep_scene(
             result
         })
         .collect();
-    SceneSweep::assemble(name, scene, results)
+    SceneSweep::assemble(name, scene, results, axis)
 }
 
 impl SceneSweep {
     /// A scene's sweep from its configurations' rows and refusals
-    /// ([`measure_config`]), in grid order; marks the rows' Pareto front.
-    pub fn assemble(name: &str, scene: &Scene, results: Vec<Result<Row, Skipped>>) -> Self {
+    /// ([`measure_config`]), in grid order; marks the rows' Pareto front
+    /// on `axis`.
+    pub fn assemble(
+        name: &str,
+        scene: &Scene,
+        results: Vec<Result<Row, Skipped>>,
+        axis: Axis,
+    ) -> Self {
         let (mut rows, mut skipped) = (Vec::new(), Vec::new());
         for result in results {
             match result {
@@ -580,7 +633,7 @@ impl SceneSweep {
                 Err(s) => skipped.push(s),
             }
         }
-        let front = pareto_front(&rows);
+        let front = pareto_front(&rows, axis);
         for (row, on) in rows.iter_mut().zip(front) {
             row.pareto = on;
         }
@@ -589,6 +642,7 @@ impl SceneSweep {
             scene: scene.clone(),
             rows,
             skipped,
+            axis,
         }
     }
 }
@@ -700,20 +754,31 @@ fn measure(
     })
 }
 
-/// For each row, whether it is on the Pareto front of (device frames per
-/// second, maximized; mean abs error, minimized): no other row is at least
-/// as fast on the device and at most as wrong, and strictly better in one.
-/// Rows equal in both are all on it. NaN errors count as worse than any
-/// number.
-pub fn pareto_front(rows: &[Row]) -> Vec<bool> {
-    let key = |r: &Row| (r.device_fps, r.mean_abs_error);
+/// For each row, whether it is on the Pareto front of (`axis`, best
+/// direction: the most device frames per second, or the fewest LUTs or
+/// DSPs a processor; mean abs error, minimized): no other row is at least
+/// as good on the axis and at most as wrong, and strictly better in one.
+/// On an area axis, where every speed-up set of a configuration ties in
+/// both, a row equal to another in both is beaten by it if the other has
+/// more device frames/s; otherwise rows equal in both are all on it. NaN
+/// errors count as worse than any number.
+pub fn pareto_front(rows: &[Row], axis: Axis) -> Vec<bool> {
+    let key = |r: &Row| {
+        let tie = match axis {
+            Axis::DeviceFps => 0.0,
+            Axis::Luts | Axis::Dsp => r.device_fps,
+        };
+        (axis.gain(r), r.mean_abs_error, tie)
+    };
     rows.iter()
         .map(|r| {
-            let (f, e) = key(r);
+            let (f, e, t) = key(r);
             !rows.iter().any(|o| {
-                let (of, oe) = key(o);
+                let (of, oe, ot) = key(o);
                 let no_worse = of.total_cmp(&f).is_ge() && oe.total_cmp(&e).is_le();
-                let better = of.total_cmp(&f).is_gt() || oe.total_cmp(&e).is_lt();
+                let better = of.total_cmp(&f).is_gt()
+                    || oe.total_cmp(&e).is_lt()
+                    || ot.total_cmp(&t).is_gt();
                 no_worse && better
             })
         })
@@ -759,43 +824,113 @@ pub fn check_pixels(frame: &Frame, full: &Frame, sample: u64, seed: u64) -> (Vec
     (picked.into_iter().map(at).collect(), differing)
 }
 
-/// Co-simulates each front row's configuration on the RTL on its
-/// [`check_pixels`] and fills in its RTL columns. `progress` is called with
-/// pixels finished; `total` (called first) with the number to come.
+/// A configuration's check on the RTL: the scene as the configuration
+/// draws it, the build it is priced as and runs on, the pixels it is
+/// checked on ([`check_pixels`]) and how many of them differ from the full
+/// configuration's frame.
+#[derive(Debug, Clone)]
+pub struct RtlCheck {
+    pub config: Config,
+    pub scene: Scene,
+    pub build: Build,
+    pub pixels: Vec<(u32, u32)>,
+    pub differing: u64,
+}
+
+/// The full configuration's frame of `scene` ([`Config::full`]), which
+/// [`RtlCheck::plan`] picks the pixels that differ from.
+pub fn full_frame(name: &str, scene: &Scene) -> Result<Frame, SweepError> {
+    let full = Config::full().apply_named(scene, name)?;
+    Ok(golden::micro::render(&full, &|_| {}).0)
+}
+
+impl Config {
+    /// [`Config::apply`], its refusal named by scene and configuration.
+    fn apply_named(&self, scene: &Scene, name: &str) -> Result<Scene, SweepError> {
+        self.apply(scene, name)
+            .map_err(|source| SweepError::Config {
+                scene: name.into(),
+                config: self.label(),
+                source: Box::new(source),
+            })
+    }
+}
+
+impl RtlCheck {
+    /// How `config` of the scene `name` is checked on the RTL: on the
+    /// build the cost table prices it as (so that what is co-simulated is
+    /// what is priced), on every pixel where its frame differs from `full`
+    /// ([`full_frame`]) and `options.sample` more.
+    pub fn plan(
+        name: &str,
+        base: &Scene,
+        config: &Config,
+        full: &Frame,
+        options: &ConfirmOptions,
+    ) -> Result<RtlCheck, SweepError> {
+        let scene = config.apply_named(base, name)?;
+        let build = crate::device::CostTable::builtin_ref()
+            .and_then(|t| t.build_for(config.build(&scene)))
+            .map_err(|source| SweepError::Cost {
+                scene: name.into(),
+                source,
+            })?
+            .build;
+        let (frame, _) = golden::micro::render(&scene, &|_| {});
+        let (pixels, differing) = check_pixels(&frame, full, options.sample, options.seed);
+        Ok(RtlCheck {
+            config: *config,
+            scene,
+            build,
+            pixels,
+            differing,
+        })
+    }
+
+    /// Co-simulates the check's pixels on its build; `progress` is called
+    /// with pixels finished.
+    pub fn run(
+        &self,
+        name: &str,
+        options: &ConfirmOptions,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<CompareReport, SweepError> {
+        cosim::run_pixels(
+            &self.scene,
+            &self.pixels,
+            self.build,
+            &options.cosim,
+            progress,
+        )
+        .map_err(|source| SweepError::Cosim {
+            scene: name.into(),
+            config: self.config.label(),
+            source: Box::new(source),
+        })
+    }
+}
+
+/// Co-simulates each front row's configuration on the RTL ([`RtlCheck`])
+/// and fills in its RTL columns. `progress` is called with pixels
+/// finished; `total` (called first) with the number to come.
 pub fn confirm(
     sweep: &mut SceneSweep,
     options: &ConfirmOptions,
     total: &dyn Fn(u64),
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<CompareReport>, SweepError> {
-    let scene_of = |config: &Config| {
-        config
-            .apply(&sweep.scene, &sweep.name)
-            .map_err(|source| SweepError::Config {
-                scene: sweep.name.clone(),
-                config: config.label(),
-                source: Box::new(source),
-            })
-    };
-    let (full, _) = golden::micro::render(&scene_of(&Config::full())?, &|_| {});
+    let full = full_frame(&sweep.name, &sweep.scene)?;
     let mut plans = Vec::new();
     for (i, row) in sweep.rows.iter().enumerate().filter(|(_, r)| r.pareto) {
-        let scene = scene_of(&row.config())?;
-        let (frame, _) = golden::micro::render(&scene, &|_| {});
-        let (pixels, differing) = check_pixels(&frame, &full, options.sample, options.seed);
-        plans.push((i, scene, pixels, differing));
+        let check = RtlCheck::plan(&sweep.name, &sweep.scene, &row.config(), &full, options)?;
+        plans.push((i, check));
     }
-    total(plans.iter().map(|p| p.2.len() as u64).sum());
+    total(plans.iter().map(|(_, c)| c.pixels.len() as u64).sum());
     let mut reports = Vec::new();
-    for (i, scene, pixels, differing) in plans {
+    for (i, check) in plans {
+        let report = check.run(&sweep.name, options, progress)?;
         let row = &mut sweep.rows[i];
-        let report = cosim::run_pixels(&scene, &pixels, row.processor, &options.cosim, progress)
-            .map_err(|source| SweepError::Cosim {
-                scene: sweep.name.clone(),
-                config: row.config().label(),
-                source: Box::new(source),
-            })?;
-        row.differs_from_full = Some(differing);
+        row.differs_from_full = Some(check.differing);
         row.rtl_pixels = Some(report.counts.pixels);
         row.rtl_confirmed = Some(report.passed());
         reports.push(report);
@@ -841,6 +976,8 @@ struct Document<'a> {
 #[derive(Debug, Serialize)]
 struct SceneDocument<'a> {
     scene: &'a str,
+    /// The axis of its front (`pareto`).
+    axis: Axis,
     configurations: usize,
     skipped: Vec<SkippedDocument>,
     rows: &'a [Row],
@@ -873,6 +1010,7 @@ pub fn write_json(
             .iter()
             .map(|s| SceneDocument {
                 scene: &s.name,
+                axis: s.axis,
                 configurations: s.rows.len() + s.skipped.len(),
                 skipped: s
                     .skipped

@@ -18,7 +18,7 @@
 //!   sweeps: in the unsharded run, and in `rtcosim merge`.
 
 use super::{
-    measure_config, reference_frame, Config, ConfirmOptions, Grid, Row, SceneSweep, Skipped,
+    measure_config, reference_frame, Axis, Config, ConfirmOptions, Grid, Row, SceneSweep, Skipped,
     SweepError,
 };
 use crate::cosim::CosimOptions;
@@ -57,6 +57,10 @@ pub struct RunConfig {
     pub timeout_cycles: u64,
     /// The processors swept (each row is confirmed on its own).
     pub processors: Vec<ProcessorKind>,
+    /// The axis the front is on (shards of an older rtcosim: device
+    /// frames/s).
+    #[serde(default)]
+    pub axis: Axis,
     /// The Verilator that built the RTL the front is confirmed on.
     pub verilator: String,
 }
@@ -310,6 +314,8 @@ pub fn assemble(
         .iter()
         .zip(scenes)
         .zip(per_scene)
-        .map(|((named, scene), results)| SceneSweep::assemble(&named.name, scene, results))
+        .map(|((named, scene), results)| {
+            SceneSweep::assemble(&named.name, scene, results, config.axis)
+        })
         .collect()
 }

@@ -221,7 +221,7 @@ pub fn tune_pick(stdout: &str, scene: &Scene) -> golden::scene::RenderSettings {
         other => panic!("method {other:?}\n{stdout}"),
     };
     golden::scene::RenderSettings {
-        max_depth: field(stdout, ".STACK_DEPTH(").parse().expect("a depth"),
+        max_depth: field(stdout, "max_depth = ").parse().expect("a depth"),
         recip: method(field(stdout, ".RECIP_METHOD(")),
         sqrt: method(field(stdout, ".SQRT_METHOD(")),
         weight_cutoff: field(stdout, "weight_cutoff = ").parse().expect("a cutoff"),
@@ -229,9 +229,19 @@ pub fn tune_pick(stdout: &str, scene: &Scene) -> golden::scene::RenderSettings {
     }
 }
 
-/// `rtcosim tune` on the mirror scene at 4x3 for a largest error of 30
-/// (depth 3 is the answer: a frame in a fraction of a second).
-pub const TUNE_MIRROR_4X3: [&str; 7] = [
+/// The processor of `rtcosim tune`'s pick, by its RTL build line's module.
+pub fn tune_processor(stdout: &str) -> rtcosim::processor::ProcessorKind {
+    use rtcosim::processor::ProcessorKind;
+    match field(stdout, "RTL build: ").split(' ').next() {
+        Some("pixel_processor") => ProcessorKind::Compact,
+        Some("fast_pp") => ProcessorKind::Fast,
+        other => panic!("module {other:?}\n{stdout}"),
+    }
+}
+
+/// `rtcosim tune` on the mirror scene at 4x3 for a largest error of 30,
+/// on the compact processor (a frame in a fraction of a second).
+pub const TUNE_MIRROR_4X3: [&str; 9] = [
     "tune",
     "--scene",
     "mirror",
@@ -239,6 +249,8 @@ pub const TUNE_MIRROR_4X3: [&str; 7] = [
     "4x3",
     "--max-error",
     "30",
+    "--processor",
+    "compact",
 ];
 
 /// The builtin mirror scene at `w` x `h` (it meets all three speed-ups'
