@@ -300,7 +300,24 @@ impl Verilator {
 }
 
 fn main() {
-    println!("cargo:rerun-if-changed=rtl");
+    // What this script reads of rtl/ (the Verilog, the transition tables it
+    // builds cover modules from, the scripts of the `mutation` and
+    // `synth-netlist` features), not the rest (rtl/synth/costs.toml, which
+    // harness/device.rs includes itself, reports, other scripts): a change
+    // there rebuilds the crate without verilating again. A new directory of
+    // Verilog under rtl/ must be added here.
+    for read in [
+        "rtl/fp",
+        "rtl/pp",
+        "rtl/fast",
+        "rtl/top.v",
+        TRANSITIONS,
+        FAST_TRANSITIONS,
+        "rtl/mutate",
+        "rtl/synth/synth.sh",
+    ] {
+        println!("cargo:rerun-if-changed={read}");
+    }
     println!("cargo:rerun-if-env-changed={TOPS}");
     println!("cargo:rerun-if-changed=harness/cpp");
     println!("cargo:rerun-if-changed=harness/bridge.rs");

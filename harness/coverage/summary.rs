@@ -426,24 +426,91 @@ impl Summary {
         for (f, l, what) in &self.lines_missed {
             let _ = writeln!(md, "- {f}:{l} ({what})");
         }
-        md += "\n## Bits that never toggled, per module\n\n";
+        md += "\n## Bits that never toggled, per module (runs of bits as [high:low])\n\n";
         for (m, bits) in &self.untoggled {
-            let shown: Vec<&str> = bits.iter().take(12).map(String::as_str).collect();
-            let more = if bits.len() > shown.len() {
-                format!(", ... ({} in all)", bits.len())
-            } else {
-                String::new()
-            };
-            let _ = writeln!(md, "- {m}: {}{more}", shown.join(", "));
+            let _ = writeln!(
+                md,
+                "- {m} ({}): {}",
+                bits.len(),
+                bit_ranges(bits).join(", ")
+            );
         }
         md
     }
+}
+
+/// Toggle points named `signal[i]` (or `array[j][i]`) as runs of
+/// consecutive bits per signal, `signal[high:low]` (one bit: `signal[i]`),
+/// signals in name order; names without a bit index as they are.
+pub fn bit_ranges(bits: &[String]) -> Vec<String> {
+    let mut signals: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
+    let mut plain = Vec::new();
+    for b in bits {
+        let bit = b
+            .strip_suffix(']')
+            .and_then(|s| s.rsplit_once('['))
+            .and_then(|(name, i)| Some((name, i.parse::<u32>().ok()?)));
+        match bit {
+            Some((name, i)) => signals.entry(name).or_default().push(i),
+            None => plain.push(b.as_str()),
+        }
+    }
+    let mut out: Vec<(&str, String)> = plain.into_iter().map(|p| (p, p.to_string())).collect();
+    for (name, mut idx) in signals {
+        idx.sort_unstable();
+        idx.dedup();
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        for i in idx {
+            match runs.last_mut() {
+                Some((_, hi)) if *hi + 1 == i => *hi = i,
+                _ => runs.push((i, i)),
+            }
+        }
+        for (lo, hi) in runs.into_iter().rev() {
+            let text = if lo == hi {
+                format!("{name}[{lo}]")
+            } else {
+                format!("{name}[{hi}:{lo}]")
+            };
+            out.push((name, text));
+        }
+    }
+    out.sort_by(|a, b| a.0.cmp(b.0));
+    out.into_iter().map(|(_, t)| t).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::path::Path;
+
+    #[test]
+    fn untoggled_bits_are_listed_as_runs_per_signal() {
+        let bits: Vec<String> = [
+            "s1_ix[10]",
+            "s1_ix[12]",
+            "neg_a",
+            "s1_ix[11]",
+            "inq[1][4]",
+            "s1_ix[31]",
+            "inq[1][3]",
+            "inq[0][3]",
+            "a[0]",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(
+            bit_ranges(&bits),
+            [
+                "a[0]",
+                "inq[0][3]",
+                "inq[1][4:3]",
+                "neg_a",
+                "s1_ix[31]",
+                "s1_ix[12:10]"
+            ]
+        );
+    }
 
     /// A transition point of the coverage build, counted `count` times.
     fn transition(from: &str, to: &str, line: u32, count: u64) -> String {
