@@ -56,6 +56,13 @@
 # `prep`. The prepared design is cached in $MUTATE_CACHE (default
 # target/mutate/) under the hash of the RTL.
 #
+#   MUTATE_DESIGN=fast_pp  the fast pixel processor (rtl/fast/fast_pp.v,
+#       with the exponential) instead of the compact one (pixel_processor,
+#       the default): its sources add rtl/fast, its list is
+#       rtl/mutate/fast_pp.mutants, its float units cut beside the netlist
+#       are fast_fp_add ... fast_fp_exp. `miter` knows the compact units
+#       only and refuses it.
+#
 #   MUTATE_BLACKBOX="fp_recip fp_sqrt"  (list) makes those modules black boxes (their
 #       ports and parameters only; their RTL is compiled beside the netlist,
 #       unmutated), which skips their seed tables' three minutes of
@@ -72,7 +79,18 @@ export LC_ALL=C  # the sources in one order everywhere (the hash)
 here=$(cd "$(dirname "$0")" && pwd)
 rtl=$(cd "$here/.." && pwd)
 root=$(cd "$rtl/.." && pwd)
-list_file=${MUTATE_LIST:-$here/pixel_processor.mutants}
+top=${MUTATE_DESIGN:-pixel_processor}
+case $top in
+pixel_processor)
+    src_dirs="rtl/fp rtl/pp"
+    units="fp_add fp_mul fp_itof fp_exp fp_recip fp_sqrt" ;;
+fast_pp)
+    src_dirs="rtl/fp rtl/pp rtl/fast"
+    units="fast_fp_add fast_fp_mul fast_fp_itof fast_fp_exp fast_fp_recip fast_fp_sqrt" ;;
+*) echo "mutants.sh: MUTATE_DESIGN '$top' is neither pixel_processor nor fast_pp" >&2; exit 2 ;;
+esac
+export MUTATE_UNITS=$units
+list_file=${MUTATE_LIST:-$here/$top.mutants}
 cache=${MUTATE_CACHE:-$root/target/mutate}
 blackbox=${MUTATE_BLACKBOX:-}
 
@@ -84,7 +102,12 @@ need_yosys() { command -v yosys >/dev/null || die "yosys is not on PATH (Debian:
 # The sources, in a fixed order, relative to the checkout (the `-src`
 # attributes, and so the list, name rtl/...).
 cd "$root"
-sources=(rtl/fp/*.v rtl/pp/*.v)
+sources=()
+includes=""
+for d in $src_dirs; do
+    sources+=("$d"/*.v)
+    includes+=" -I$d"
+done
 
 # FNV-1a 64 over the sources' names and contents: the list's RTL.
 rtl_hash() {
@@ -103,7 +126,7 @@ design() {
     need_yosys
     local hash key il read="" f m
     hash=$(rtl_hash)
-    key=$hash${blackbox:+-$(echo "$blackbox" | tr ' ' '-')}
+    key=$top-$hash${blackbox:+-$(echo "$blackbox" | tr ' ' '-')}
     il=$cache/design-$key.il
     if [ ! -s "$il" ]; then
         mkdir -p "$cache"
@@ -127,9 +150,9 @@ PY
             fi
         done
         {
-            echo "read_verilog -defer -DPP_TRACE -Irtl/fp -Irtl/pp$read"
-            echo "hierarchy -top pixel_processor -chparam RECIP_METHOD 0 -chparam SQRT_METHOD 0"
-            echo "prep -top pixel_processor"
+            echo "read_verilog -defer -DPP_TRACE$includes$read"
+            echo "hierarchy -top $top -chparam RECIP_METHOD 0 -chparam SQRT_METHOD 0"
+            echo "prep -top $top"
             echo "write_rtlil $il.tmp"
         } > "$cache/prep.ys"
         if [ -z "$blackbox" ]; then
@@ -181,8 +204,8 @@ list)
     trap 'rm -f "$tmp"' EXIT
     yosys -q -p "read_rtlil $il; mutate -list $count -seed $seed -o $tmp" >/dev/null
     {
-        echo "# Mutants of the pixel processor (PP_TRACE, exact methods), listed by"
-        echo "# ${blackbox:+MUTATE_BLACKBOX=\"$blackbox\" }rtl/mutate/mutants.sh list $count $seed: yosys mutate -list $count -seed $seed."
+        echo "# Mutants of $top (PP_TRACE, exact methods), listed by"
+        echo "# ${blackbox:+MUTATE_BLACKBOX=\"$blackbox\" }${MUTATE_DESIGN:+MUTATE_DESIGN=$top }rtl/mutate/mutants.sh list $count $seed: yosys mutate -list $count -seed $seed."
         echo "# rtl fnv1a64 $(rtl_hash)"
         echo "# $(yosys -V)"
         [ -z "$blackbox" ] || echo "# black boxes: $blackbox"
@@ -204,7 +227,7 @@ netlist)
     # mutsel into every module (black boxes aside) and down through every
     # instance of one.
     python3 - "$il" "$tmp/unbox.ys" "$tmp/units" > "$tmp/ports.ys" <<'PY'
-import re, sys
+import os, re, sys
 modules, boxes, inst, cur, attrs = [], set(), [], None, []
 for line in open(sys.argv[1]):
     stripped = line.strip()
@@ -234,7 +257,7 @@ for m, t, c in inst:
 with open(sys.argv[3], "w") as units:
     for m in modules:
         name = m.split("\\")[1] if m.startswith("$paramod") else m.lstrip("\\")
-        if name in ("fp_add", "fp_mul", "fp_itof", "fp_exp", "fp_recip", "fp_sqrt"):
+        if name in os.environ["MUTATE_UNITS"].split():
             print(m, name, file=units)
 with open(sys.argv[2], "w") as unbox:
     for b in sorted(boxes):
@@ -271,7 +294,7 @@ PY
         # whole, or passing through ports, Verilator sees loops through them
         # (UNOPTFLAT) and settles them by iterating, 50 times slower.
         echo "flatten"
-        echo "hierarchy -top pixel_processor"
+        echo "hierarchy -top $top"
         cat "$tmp/unbox.ys"
         echo "opt_clean"
         echo "splitnets -driver"
@@ -346,6 +369,7 @@ equiv)
     ;;
 miter)
     [ $# -ge 1 ] || usage
+    [ "$top" = pixel_processor ] || die "miter knows the compact processor's float units only (MUTATE_DESIGN=$top)"
     limit=${MUTATE_MITER_SECONDS:-300}
     steps=${MUTATE_MITER_STEPS:-12}
     [[ $limit =~ ^[1-9][0-9]*$ ]] || die "MUTATE_MITER_SECONDS '$limit' is not a number of seconds"
