@@ -180,18 +180,20 @@ impl Top {
     /// its coverage model when coverage is on in this process
     /// ([`crate::coverage::dir`]).
     pub fn new_fast_variant(recip: Method, sqrt: Method, exp_unit: bool) -> Result<Top, PpError> {
-        match crate::coverage::dir() {
-            None => {
-                let built = ffi::new_fast_top(recip.code(), sqrt.code(), exp_unit);
-                Top::fast_around(built, recip, sqrt, exp_unit)
-            }
-            Some(dir) => {
-                let built = ffi::new_fast_cov_top(recip.code(), sqrt.code(), exp_unit);
-                let mut top = Top::fast_around(built, recip, sqrt, exp_unit)?;
-                top.coverage = Some(dir);
-                Ok(top)
-            }
-        }
+        let dir = crate::coverage::dir();
+        let new = if dir.is_some() {
+            ffi::new_fast_cov_top
+        } else {
+            ffi::new_fast_top
+        };
+        let mut top = Top::fast_around(
+            new(recip.code(), sqrt.code(), exp_unit),
+            recip,
+            sqrt,
+            exp_unit,
+        )?;
+        top.coverage = dir;
+        Ok(top)
     }
 
     /// [`Top::new_fast_variant`] on the variant verilated with
