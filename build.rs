@@ -313,7 +313,8 @@ fn main() {
         "rtl/top.v",
         TRANSITIONS,
         FAST_TRANSITIONS,
-        "rtl/mutate",
+        "rtl/mutate/mutants.sh",
+        "rtl/mutate/pixel_processor.mutants",
         "rtl/synth/synth.sh",
     ] {
         println!("cargo:rerun-if-changed={read}");
