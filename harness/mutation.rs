@@ -328,61 +328,131 @@ impl Mutant {
     }
 }
 
+/// A directed scene of the judge: its file (`rtl/mutate/scenes/NAME.toml`),
+/// the window judged (None: the whole image), and `framed_as`: None to
+/// judge the file as written, or the image width whose field of view the
+/// file's camera `distance` was written for, to judge it with that field
+/// of view at the file's own size (the distance scaled by width /
+/// framed_as, as `Scene::resized` keeps it).
+#[derive(Debug, Clone, Copy)]
+pub struct Directed {
+    pub name: &'static str,
+    pub text: &'static str,
+    pub window: Option<Window>,
+    pub framed_as: Option<u32>,
+}
+
 /// The judge's directed scenes (`rtl/mutate/scenes/`, docs/mutation.md):
 /// written to kill survivors that the builtin and fuzz scenes miss, each
 /// named in its file's header; judged whole at their own size, or on the
-/// window given.
-pub const DIRECTED: &[(&str, &str, Option<Window>)] = &[
-    (
-        "planes_z_first",
-        include_str!("../rtl/mutate/scenes/planes_z_first.toml"),
-        None,
-    ),
-    (
-        "planes_x_last",
-        include_str!("../rtl/mutate/scenes/planes_x_last.toml"),
-        None,
-    ),
-    (
-        "camera_roll",
-        include_str!("../rtl/mutate/scenes/camera_roll.toml"),
-        None,
-    ),
-    (
-        "camera_level",
-        include_str!("../rtl/mutate/scenes/camera_level.toml"),
-        None,
-    ),
-    (
-        "shortcut_alone",
-        include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
-        None,
-    ),
-    (
-        "materials",
-        include_str!("../rtl/mutate/scenes/materials.toml"),
-        None,
-    ),
-    (
-        "mirror_shallow",
-        include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
-        None,
-    ),
-    (
-        "weight_cutoff",
-        include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
-        None,
-    ),
-    (
-        "deep_mirrors",
-        include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
-        None,
-    ),
-    (
-        "large_frame",
-        include_str!("../rtl/mutate/scenes/large_frame.toml"),
-        Some(Window::new(126, 2046, 4, 4)),
-    ),
+/// window given. Seven copy the 800-pixel reference layout's camera
+/// distance into a 16x12 image, a field of view 50 times narrower than
+/// meant (docs/mutation.md, "What stands"): each is judged as written
+/// (what it kills stays killed) and framed as the reference frames its
+/// 800 pixels, which shows the objects it was written for.
+pub const DIRECTED: &[Directed] = &[
+    Directed {
+        name: "planes_z_first",
+        text: include_str!("../rtl/mutate/scenes/planes_z_first.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "planes_x_last",
+        text: include_str!("../rtl/mutate/scenes/planes_x_last.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "camera_roll",
+        text: include_str!("../rtl/mutate/scenes/camera_roll.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "camera_level",
+        text: include_str!("../rtl/mutate/scenes/camera_level.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "shortcut_alone",
+        text: include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "materials",
+        text: include_str!("../rtl/mutate/scenes/materials.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "mirror_shallow",
+        text: include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "weight_cutoff",
+        text: include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "deep_mirrors",
+        text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "large_frame",
+        text: include_str!("../rtl/mutate/scenes/large_frame.toml"),
+        window: Some(Window::new(126, 2046, 4, 4)),
+        framed_as: None,
+    },
+    Directed {
+        name: "camera_roll",
+        text: include_str!("../rtl/mutate/scenes/camera_roll.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "camera_level",
+        text: include_str!("../rtl/mutate/scenes/camera_level.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "shortcut_alone",
+        text: include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "materials",
+        text: include_str!("../rtl/mutate/scenes/materials.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "mirror_shallow",
+        text: include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "weight_cutoff",
+        text: include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
+    Directed {
+        name: "deep_mirrors",
+        text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
+        window: None,
+        framed_as: Some(800),
+    },
 ];
 
 /// What the judge is made of: every float unit's edge cases and
@@ -471,14 +541,25 @@ impl Judge {
             let window = Window::full(&scene);
             scene_check(what, scene, window);
         }
-        for (name, text, window) in DIRECTED {
-            let what = format!("directed {name}");
-            let path = format!("rtl/mutate/scenes/{name}.toml");
-            let scene = Scene::from_toml(text, &path).map_err(|e| JudgeError {
+        for d in DIRECTED {
+            let what = match d.framed_as {
+                None => format!("directed {}", d.name),
+                Some(w) => format!("directed {} framed as {w} wide", d.name),
+            };
+            let path = format!("rtl/mutate/scenes/{}.toml", d.name);
+            let scene = Scene::from_toml(d.text, &path).map_err(|e| JudgeError {
                 what: what.clone(),
                 message: e.to_string(),
             })?;
+            let scene = match d.framed_as {
+                None => scene,
+                Some(w) => scene.framed_as(w, &what).map_err(|e| JudgeError {
+                    what: what.clone(),
+                    message: e.to_string(),
+                })?,
+            };
             let scene = exact(&scene, &what)?;
+            let window = d.window;
             let window = window.unwrap_or_else(|| Window::full(&scene));
             window
                 .check_inside(scene.camera.width, scene.camera.height)

@@ -29,6 +29,8 @@ use std::process::Command;
 
 const SCRIPT: &str = "rtl/mutate/mutants.sh";
 const SMOKE_LIST: &str = "rtl/mutate/smoke.mutants";
+/// The fast processor's list (`MUTATE_DESIGN=fast_pp`; no campaign yet).
+const FAST_LIST: &str = "rtl/mutate/fast_pp.mutants";
 
 /// Mutants of the smoke list a bug would be, and what they break:
 /// each must make some pixel differ from golden.
@@ -95,6 +97,40 @@ fn the_mutant_lists_were_listed_on_todays_rtl() {
     assert!(smoke
         .lines()
         .any(|l| l == "# black boxes: fp_recip fp_sqrt"));
+    // The fast processor's list, on its own sources (rtl/fast too): the
+    // hash of MUTATE_DESIGN=fast_pp, another than the compact one's.
+    let out = Command::new("bash")
+        .arg(root().join(SCRIPT))
+        .arg("hash")
+        .env("MUTATE_DESIGN", "fast_pp")
+        .output()
+        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let fast_today = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    assert_ne!(fast_today, today);
+    assert_eq!(
+        listed_hash(FAST_LIST),
+        fast_today,
+        "{FAST_LIST} was listed on other RTL: run `MUTATE_DESIGN=fast_pp {SCRIPT} list 1200 1` (see docs/mutation.md)"
+    );
+    // A design the script does not know is refused by name.
+    let out = Command::new("bash")
+        .arg(root().join(SCRIPT))
+        .arg("hash")
+        .env("MUTATE_DESIGN", "top")
+        .output()
+        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr)
+            .contains("MUTATE_DESIGN 'top' is neither pixel_processor nor fast_pp"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// Runs `pixels` of `scene` on mutant `id` of the compiled netlist.

@@ -998,3 +998,28 @@ fn a_scene_written_as_toml_reads_back_bit_for_bit() -> TestResult {
     assert_eq!(Scene::from_toml(&scene.to_toml(), "w.toml")?, scene);
     Ok(())
 }
+
+/// `framed_as`: a scene file whose camera distance was written for an
+/// 800-pixel image but whose image is 16x12 (a field of view 50 times
+/// narrower) is the reference resized to 16x12 once framed as 800 wide;
+/// framing as its own width changes nothing; a wider layout halves the
+/// distance.
+#[test]
+fn framed_as_gives_the_field_of_view_of_the_layout_width() -> TestResult {
+    let reference = Scene::reference();
+    let text = edit(
+        &edit(&reference.to_toml(), "width = 800", "width = 16"),
+        "height = 600",
+        "height = 12",
+    );
+    let narrow = Scene::from_toml(&text, "narrow")?;
+    assert_eq!(narrow.camera.distance, reference.camera.distance);
+    let framed = narrow.framed_as(800, "framed")?;
+    assert_eq!(framed.camera, reference.resized(16, 12, "small")?.camera);
+    assert_eq!(framed.framed_as(16, "same")?.camera, framed.camera);
+    assert_eq!(
+        reference.framed_as(1600, "wide")?.camera.distance,
+        reference.camera.distance / 2.0
+    );
+    Ok(())
+}

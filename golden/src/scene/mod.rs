@@ -161,6 +161,23 @@ impl Scene {
             (f64::from(camera.distance) * f64::from(width) / f64::from(camera.width)) as f32;
         camera.width = width;
         camera.height = height;
+        self.with_camera(camera, origin)
+    }
+
+    /// The same image size with the field of view that the camera's
+    /// `distance` gives an image `layout_width` pixels wide: the distance
+    /// scaled by width / `layout_width`, as [`Scene::resized`] from that
+    /// width would keep it. For a scene file whose distance was written
+    /// for another image width. `origin` names the request in errors.
+    pub fn framed_as(&self, layout_width: u32, origin: &str) -> Result<Scene, SceneError> {
+        let mut camera = self.camera.clone();
+        camera.distance = (f64::from(camera.distance) * f64::from(camera.width)
+            / f64::from(layout_width.max(1))) as f32;
+        self.with_camera(camera, origin)
+    }
+
+    /// This scene with another camera, validated again.
+    fn with_camera(&self, camera: Camera, origin: &str) -> Result<Scene, SceneError> {
         Scene::new(
             origin,
             camera,
