@@ -50,19 +50,26 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `rtl/mutate/mutants.sh ARGS` on `list`, its cache under cargo's
-/// temporary directory; stdout, or the failure with stderr.
-fn script(list: &str, args: &[&str]) -> String {
-    let out = Command::new("bash")
+/// `rtl/mutate/mutants.sh ARGS` on `list` for `design` (MUTATE_DESIGN),
+/// its cache under cargo's temporary directory.
+fn run_script(design: &str, list: &str, args: &[&str]) -> std::process::Output {
+    Command::new("bash")
         .arg(root().join(SCRIPT))
         .args(args)
+        .env("MUTATE_DESIGN", design)
         .env("MUTATE_LIST", root().join(list))
         .env(
             "MUTATE_CACHE",
             Path::new(env!("CARGO_TARGET_TMPDIR")).join("mutate"),
         )
         .output()
-        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"))
+}
+
+/// [`run_script`] on the compact processor: stdout, or the failure with
+/// stderr.
+fn script(list: &str, args: &[&str]) -> String {
+    let out = run_script("pixel_processor", list, args);
     assert!(
         out.status.success(),
         "{SCRIPT} {}:\n{}",
@@ -99,12 +106,7 @@ fn the_mutant_lists_were_listed_on_todays_rtl() {
         .any(|l| l == "# black boxes: fp_recip fp_sqrt"));
     // The fast processor's list, on its own sources (rtl/fast too): the
     // hash of MUTATE_DESIGN=fast_pp, another than the compact one's.
-    let out = Command::new("bash")
-        .arg(root().join(SCRIPT))
-        .arg("hash")
-        .env("MUTATE_DESIGN", "fast_pp")
-        .output()
-        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+    let out = run_script("fast_pp", FAST_LIST, &["hash"]);
     assert!(
         out.status.success(),
         "{}",
@@ -118,12 +120,7 @@ fn the_mutant_lists_were_listed_on_todays_rtl() {
         "{FAST_LIST} was listed on other RTL: run `MUTATE_DESIGN=fast_pp {SCRIPT} list 1200 1` (see docs/mutation.md)"
     );
     // A design the script does not know is refused by name.
-    let out = Command::new("bash")
-        .arg(root().join(SCRIPT))
-        .arg("hash")
-        .env("MUTATE_DESIGN", "top")
-        .output()
-        .unwrap_or_else(|e| panic!("running {SCRIPT}: {e}"));
+    let out = run_script("top", FAST_LIST, &["hash"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&out.stderr)

@@ -70,9 +70,9 @@ struct Answer<'a> {
     scene: &'a str,
     width: u32,
     height: u32,
-    measure: &'a str,
+    measure: String,
     max_error: f64,
-    cost: &'a str,
+    cost: String,
     configurations: usize,
     /// Whether the pick met the target and its build agreed with golden.
     recommended: bool,
@@ -173,6 +173,13 @@ pub fn run(args: TuneArgs) -> Result<bool> {
     Ok(recommended)
 }
 
+/// An option value's name as the command line takes it.
+fn value_name(v: impl clap::ValueEnum) -> String {
+    v.to_possible_value()
+        .map(|p| p.get_name().to_string())
+        .unwrap_or_default()
+}
+
 fn write_json(
     path: &Path,
     args: &TuneArgs,
@@ -186,16 +193,9 @@ fn write_json(
         scene: &args.scene.scene,
         width: scene.camera.width,
         height: scene.camera.height,
-        measure: match args.measure {
-            Measure::Max => "max",
-            Measure::Mean => "mean",
-        },
+        measure: value_name(args.measure),
         max_error: args.max_error,
-        cost: match args.cost {
-            Cost::DeviceFps => "device-fps",
-            Cost::Area => "area",
-            Cost::Cycles => "cycles",
-        },
+        cost: value_name(args.cost),
         configurations: tuned.all.len(),
         recommended,
         pick: tuned.best(),
