@@ -329,11 +329,12 @@ impl Mutant {
 }
 
 /// A directed scene of the judge: its file (`rtl/mutate/scenes/NAME.toml`),
-/// the window judged (None: the whole image), and `framed_as`: None to
-/// judge the file as written, or the image width whose field of view the
-/// file's camera `distance` was written for, to judge it with that field
-/// of view at the file's own size (the distance scaled by width /
-/// framed_as, as `Scene::resized` keeps it).
+/// the window judged (None: the whole image), and `framed_as`: the image
+/// width whose field of view the file's camera `distance` was written
+/// for, if not its own. Every file is judged as written; one with
+/// `framed_as` is judged again, after all of them, with that field of
+/// view at the file's own size (the distance scaled by width / framed_as,
+/// as `Scene::resized` keeps it).
 #[derive(Debug, Clone, Copy)]
 pub struct Directed {
     pub name: &'static str,
@@ -367,43 +368,43 @@ pub const DIRECTED: &[Directed] = &[
         name: "camera_roll",
         text: include_str!("../rtl/mutate/scenes/camera_roll.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "camera_level",
         text: include_str!("../rtl/mutate/scenes/camera_level.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "shortcut_alone",
         text: include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "materials",
         text: include_str!("../rtl/mutate/scenes/materials.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "mirror_shallow",
         text: include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "weight_cutoff",
         text: include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "deep_mirrors",
         text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
         window: None,
-        framed_as: None,
+        framed_as: Some(800),
     },
     Directed {
         name: "large_frame",
@@ -411,49 +412,13 @@ pub const DIRECTED: &[Directed] = &[
         window: Some(Window::new(126, 2046, 4, 4)),
         framed_as: None,
     },
-    Directed {
-        name: "camera_roll",
-        text: include_str!("../rtl/mutate/scenes/camera_roll.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "camera_level",
-        text: include_str!("../rtl/mutate/scenes/camera_level.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "shortcut_alone",
-        text: include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "materials",
-        text: include_str!("../rtl/mutate/scenes/materials.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "mirror_shallow",
-        text: include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "weight_cutoff",
-        text: include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "deep_mirrors",
-        text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
 ];
+
+/// The judge's directed-scene checks: every file of [`DIRECTED`] as
+/// written, and the framed ones again.
+pub fn directed_checks() -> usize {
+    DIRECTED.len() + DIRECTED.iter().filter(|d| d.framed_as.is_some()).count()
+}
 
 /// What the judge is made of: every float unit's edge cases and
 /// `unit_operands` seeded random operands (seed `fuzz_seed`), every builtin
@@ -541,8 +506,13 @@ impl Judge {
             let window = Window::full(&scene);
             scene_check(what, scene, window);
         }
-        for d in DIRECTED {
-            let what = match d.framed_as {
+        // Every file as written, then the framed ones framed.
+        let as_written = DIRECTED.iter().map(|d| (d, None));
+        let framed = DIRECTED
+            .iter()
+            .filter_map(|d| d.framed_as.map(|w| (d, Some(w))));
+        for (d, framed_as) in as_written.chain(framed) {
+            let what = match framed_as {
                 None => format!("directed {}", d.name),
                 Some(w) => format!("directed {} framed as {w} wide", d.name),
             };
@@ -551,7 +521,7 @@ impl Judge {
                 what: what.clone(),
                 message: e.to_string(),
             })?;
-            let scene = match d.framed_as {
+            let scene = match framed_as {
                 None => scene,
                 Some(w) => scene.framed_as(w, &what).map_err(|e| JudgeError {
                     what: what.clone(),
