@@ -315,6 +315,7 @@ fn main() {
         FAST_TRANSITIONS,
         "rtl/mutate/mutants.sh",
         "rtl/mutate/pixel_processor.mutants",
+        "rtl/mutate/fast_pp.mutants",
         "rtl/synth/synth.sh",
     ] {
         println!("cargo:rerun-if-changed={read}");
@@ -453,9 +454,12 @@ fn run() -> Result<(), String> {
     // The float units cut from the same mutated design, each beside the
     // processor's netlist (mutants.sh netlist writes them): (top, netlist).
     let mut fp_mut_sources = Vec::new();
+    // The fast processor's mutant netlist (rtl/mutate/fast_pp.mutants).
+    let mut fast_mut_sources = Vec::new();
     if mutation {
         flavours.push(Flavour::Mutant);
-        let netlist = write_mutant_netlist(&manifest, &out)?;
+        fast_mut_sources.push(write_mutant_netlist(&manifest, &out, "fast_pp")?);
+        let netlist = write_mutant_netlist(&manifest, &out, "pixel_processor")?;
         for (top, model) in MUT_UNITS {
             fp_mut_sources.push((top, model, vec![netlist.with_extension(format!("{top}.v"))]));
         }
@@ -660,6 +664,13 @@ fn run() -> Result<(), String> {
     // Verilator's coverage and the controller's cover points, from sources
     // named relative to the package (FAST_PP_VARIANTS; none without it).
     let fast_cov_table: &[(&str, &str, bool)] = if coverage { FAST_PP_VARIANTS } else { &[] };
+    // With the feature `mutation`, its mutant netlist: the exact pair with
+    // the exponential, as mutants.sh reads it.
+    let fast_mut_table: &[(&str, &str, bool)] = if mutation {
+        &[("exact", "exact", true)]
+    } else {
+        &[]
+    };
     for (top, name, table, defines, what, flavour) in [
         (
             "fast_alu",
@@ -693,12 +704,22 @@ fn run() -> Result<(), String> {
             "processor (coverage)",
             Flavour::Coverage,
         ),
+        (
+            "fast_pp",
+            "fast_pp_mut",
+            fast_mut_table,
+            vec![],
+            "processor (mutants)",
+            Flavour::Mutant,
+        ),
     ] {
-        let (includes, sources) = if flavour == Flavour::Coverage {
-            let rel = ["rtl/fast", "rtl/fp", "rtl/pp"].map(PathBuf::from).to_vec();
-            (rel, &fast_cov_sources)
-        } else {
-            (fast_includes.clone(), &fast_sources)
+        let (includes, sources) = match flavour {
+            Flavour::Coverage => {
+                let rel = ["rtl/fast", "rtl/fp", "rtl/pp"].map(PathBuf::from).to_vec();
+                (rel, &fast_cov_sources)
+            }
+            Flavour::Mutant => (vec![], &fast_mut_sources),
+            _ => (fast_includes.clone(), &fast_sources),
         };
         let variants = fast_variants(&methods, name, table)?;
         models.extend(
@@ -707,11 +728,16 @@ fn run() -> Result<(), String> {
                 .map(|(prefix, recip, sqrt, exposure)| Model {
                     prefix: prefix.clone(),
                     top,
-                    params: vec![
-                        ("RECIP_METHOD", *recip),
-                        ("SQRT_METHOD", *sqrt),
-                        ("EXPOSURE", u32::from(*exposure)),
-                    ],
+                    // Elaborated by Yosys: the parameters are in.
+                    params: if flavour.is_yosys_netlist() {
+                        vec![]
+                    } else {
+                        vec![
+                            ("RECIP_METHOD", *recip),
+                            ("SQRT_METHOD", *sqrt),
+                            ("EXPOSURE", u32::from(*exposure)),
+                        ]
+                    },
                     defines: defines.clone(),
                     includes: includes.clone(),
                     sources,
@@ -1571,16 +1597,21 @@ fn write_cover_module(manifest: &Path, m: &CoverModule, out: &Path) -> Result<()
 }
 
 /// Runs `rtl/mutate/mutants.sh netlist` (Yosys) into `out`: the netlist of
-/// the pixel processor with every listed mutant behind `mutsel`. The
-/// prepared design is cached under `out` (about 3 minutes to prepare).
-fn write_mutant_netlist(manifest: &Path, out: &Path) -> Result<PathBuf, String> {
-    let netlist = out.join("pp_mutants.v");
+/// `design` (`pixel_processor`, or `fast_pp` with its own list) with every
+/// listed mutant behind `mutsel`. The prepared design is cached under
+/// `out` (about 3 minutes to prepare the compact one, 15 the fast one).
+fn write_mutant_netlist(manifest: &Path, out: &Path, design: &str) -> Result<PathBuf, String> {
+    let netlist = out.join(match design {
+        "fast_pp" => "fast_pp_mutants.v",
+        _ => "pp_mutants.v",
+    });
     let script = manifest.join("rtl/mutate/mutants.sh");
     let o = Command::new("bash")
         .arg(&script)
         .arg("netlist")
         .arg(&netlist)
         .env("MUTATE_CACHE", out.join("mutate"))
+        .env("MUTATE_DESIGN", design)
         .output()
         .map_err(|e| format!("running {}: {e}", script.display()))?;
     if !o.status.success() {

@@ -1,5 +1,5 @@
-//! Decides float-unit mutants of `fp_recip` and `fp_sqrt` by exhaustive
-//! simulation (docs/mutation.md, "Exhaustive simulation"): the mutant's
+//! Decides float-unit mutants of `fp_recip`, `fp_sqrt` and `fp_exp` by
+//! exhaustive simulation (docs/mutation.md, "Exhaustive simulation"): the mutant's
 //! unit, cut from the mutant netlist (`FpUnit::new_mutant`), runs every
 //! significand in each exponent class its mantissa datapath can tell apart,
 //! then every exponent field with both signs and a set of fractions, bit for
@@ -9,6 +9,8 @@
 //!
 //!     cargo run --release --features mutation --example mutant_exhaustive -- 89 90 163
 //!     ... -- --threads 2 --all 89      # two mutants at a time; count every difference
+//!     ... -- 42 58                     # fp_exp: one operand per x_q it can hold
+//!     ... -- --fields 0,64 890         # every operand of those exponent fields
 //!     ... -- --below 128 42            # fp_exp: every |a| < 128 (2^31 operands: slow)
 //!
 //! The classes (the argument is in docs/mutation.md):
@@ -18,7 +20,17 @@
 //!   smallest normal: the subnormal results, shifted right 1 and 2);
 //! - fp_sqrt: the 2^23 fractions at biased exponents 127 and 128 (both
 //!   parities; every result is normal);
-//! - both: every exponent field 0..=255, both signs, the fractions of
+//! - fp_exp: one operand for each value its register x_q (|a| as fixed
+//!   point, 32 fraction bits, truncated) can hold below |a| = 128, with
+//!   both signs: every fraction of fields 118..=133 (x = man << (e - 118):
+//!   distinct), and of fields 95..=117 the fractions whose bits x drops are
+//!   zero (x = man >> (118 - e) takes each value once), and 0 (every field
+//!   below 95 truncates to x = 0). Every later register is a function of
+//!   (sign, x_q), so this decides a mutant acting after the input stage;
+//!   one in the input stage gets `--fields` with the fields it can change;
+//! - `--fields LO-HI,...` (any unit): every fraction of those fields, both
+//!   signs;
+//! - every unit: every exponent field 0..=255, both signs, the fractions of
 //!   [`sweep_fractions`] (a subnormal one with its leading one at each
 //!   position: every exponent the unpacker makes).
 //!
@@ -32,6 +44,7 @@ use golden::fp::Method;
 use rtcosim::fp_unit::{FpUnit, UnitKind};
 use rtcosim::mutation::List;
 use rtcosim::operands::CHUNK;
+use rtcosim::processor::ProcessorKind;
 use std::time::Instant;
 
 /// Fractions the exponent sweep runs at every exponent field and sign:
@@ -65,6 +78,23 @@ fn exhaustive_exponents(kind: UnitKind) -> &'static [u32] {
     }
 }
 
+/// fp_exp's operands, one for each `(sign, x_q)` its input stage makes
+/// below |a| = 128 (the special results decide the rest at the input), as
+/// contiguous bit-pattern ranges with a stride: `(first, end, step)`.
+fn exp_x_classes() -> Vec<(u64, u64, u64)> {
+    let mut ranges = Vec::new();
+    for sign in [0u64, 0x8000_0000] {
+        // x = 0: every field below 95 (and +-0 itself).
+        ranges.push((sign, sign + 1, 1));
+        // x = man >> (118 - e): one fraction per value, the dropped bits 0.
+        for e in 95..118u64 {
+            ranges.push((sign | e << 23, sign | (e + 1) << 23, 1 << (118 - e)));
+        }
+        // x = man << (e - 118): every fraction.
+        ranges.push((sign | 118 << 23, sign | 134 << 23, 1));
+    }
+    ranges
+}
 /// What one mutant's run found.
 struct Found {
     operands: u64,
@@ -93,9 +123,21 @@ fn run_batch(unit: &mut FpUnit, a: &[u32], found: &mut Found) -> Result<()> {
     Ok(())
 }
 
-/// Judges mutant `id` of `kind` exhaustively (or, with `below`, `fp_exp`
-/// on every |a| below it); stops at the first differing batch unless `all`.
-fn judge(kind: UnitKind, id: u16, all: bool, below: Option<f32>) -> Result<Found> {
+/// Which operands beyond the exponent sweep a run takes.
+#[derive(Clone)]
+enum Classes {
+    /// The unit's own classes (module doc).
+    Unit,
+    /// fp_exp: every |a| below this.
+    Below(f32),
+    /// Every fraction of each range of exponent fields `lo..=hi`, both
+    /// signs.
+    Fields(Vec<(u32, u32)>),
+}
+
+/// Judges mutant `id` of `kind` on the exponent sweep and `classes`; stops
+/// at the first differing batch unless `all`.
+fn judge(kind: UnitKind, id: u16, all: bool, classes: &Classes) -> Result<Found> {
     let start = Instant::now();
     let mut unit = FpUnit::new_mutant(kind, id)?;
     let mut found = Found {
@@ -115,26 +157,38 @@ fn judge(kind: UnitKind, id: u16, all: bool, below: Option<f32>) -> Result<Found
     }
     run_batch(&mut unit, &sweep, &mut found)?;
     let sweep_first = found.first.take();
-    // Every significand in each class, then (fp_exp) every |a| < below.
-    let ranges: Vec<(u32, u32)> = match below {
-        Some(limit) => {
-            let top = limit.to_bits();
-            vec![(0, top), (0x8000_0000, 0x8000_0000 | top)]
+    // Every operand of each class: (first, end, step).
+    // (Bit patterns as u64: the negative field 255's end is 2^32.)
+    let ranges: Vec<(u64, u64, u64)> = match classes {
+        &Classes::Below(limit) => {
+            let top = u64::from(limit.to_bits());
+            vec![(0, top, 1), (0x8000_0000, 0x8000_0000 | top, 1)]
         }
-        None => exhaustive_exponents(kind)
+        Classes::Fields(fields) => [0u64, 0x8000_0000]
             .iter()
-            .map(|&e| (e << 23, (e + 1) << 23))
+            .flat_map(|&sign| {
+                fields.iter().map(move |&(lo, hi)| {
+                    let (lo, hi) = (u64::from(lo), u64::from(hi));
+                    (sign + (lo << 23), sign + ((hi + 1) << 23), 1)
+                })
+            })
+            .collect(),
+        Classes::Unit if matches!(kind, UnitKind::Exp) => exp_x_classes(),
+        Classes::Unit => exhaustive_exponents(kind)
+            .iter()
+            .map(|&e| (u64::from(e) << 23, u64::from(e + 1) << 23, 1))
             .collect(),
     };
     let mut batch = Vec::with_capacity(CHUNK);
-    'classes: for (lo, hi) in ranges {
+    'classes: for (lo, hi, step) in ranges {
         let mut a = lo;
         while a < hi {
             batch.clear();
-            let end = hi.min(a.saturating_add(CHUNK as u32));
-            batch.extend(a..end);
+            while batch.len() < CHUNK && a < hi {
+                batch.push(a as u32);
+                a += step;
+            }
             run_batch(&mut unit, &batch, &mut found)?;
-            a = end;
             if done(&found) {
                 break 'classes;
             }
@@ -151,7 +205,7 @@ fn judge(kind: UnitKind, id: u16, all: bool, below: Option<f32>) -> Result<Found
 
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
-    let (mut threads, mut all, mut below, mut ids) = (1usize, false, None, Vec::new());
+    let (mut threads, mut all, mut classes, mut ids) = (1usize, false, Classes::Unit, Vec::new());
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--threads" => {
@@ -163,12 +217,29 @@ fn main() -> Result<()> {
             }
             "--all" => all = true,
             "--below" => {
-                below = Some(
+                classes = Classes::Below(
                     args.next()
                         .context("--below X")?
                         .parse::<f32>()
                         .context("--below X")?,
                 );
+            }
+            "--fields" => {
+                let list = args.next().context("--fields LO-HI,...")?;
+                let bad = || {
+                    format!("--fields {list:?}: want exponent fields 0..=255 as F or LO-HI, comma-separated")
+                };
+                let mut fields = Vec::new();
+                for item in list.split(',') {
+                    let (lo, hi) = item.split_once('-').unwrap_or((item, item));
+                    let (lo, hi): (u32, u32) =
+                        (lo.parse().with_context(bad)?, hi.parse().with_context(bad)?);
+                    if lo > hi || hi > 255 {
+                        bail!(bad());
+                    }
+                    fields.push((lo, hi));
+                }
+                classes = Classes::Fields(fields);
             }
             _ => {
                 for part in arg.split(',') {
@@ -181,21 +252,20 @@ fn main() -> Result<()> {
         }
     }
     if ids.is_empty() {
-        bail!("usage: mutant_exhaustive [--threads N] [--all] [--below X] ID...");
+        bail!(
+            "usage: mutant_exhaustive [--threads N] [--all] [--below X | --fields LO-HI,...] ID..."
+        );
     }
-    let list = List::committed()?;
+    let list = List::committed(ProcessorKind::Compact)?;
     let mut jobs = Vec::new();
     for &id in &ids {
         if id == 0 {
-            // The design as written: golden's own check, on both units
-            // (fp_exp with --below).
-            let kinds: &[UnitKind] = match below {
-                Some(_) => &[UnitKind::Exp],
-                None => &[
-                    UnitKind::Recip(Method::Exact),
-                    UnitKind::Sqrt(Method::Exact),
-                ],
-            };
+            // The design as written: golden's own check, on all three units.
+            let kinds: &[UnitKind] = &[
+                UnitKind::Recip(Method::Exact),
+                UnitKind::Sqrt(Method::Exact),
+                UnitKind::Exp,
+            ];
             for &kind in kinds {
                 jobs.push((0, kind, "the design".to_string()));
             }
@@ -207,10 +277,10 @@ fn main() -> Result<()> {
         let kind = match m.module.as_str() {
             "fp_recip" => UnitKind::Recip(Method::Exact),
             "fp_sqrt" => UnitKind::Sqrt(Method::Exact),
-            "fp_exp" if below.is_some() => UnitKind::Exp,
-            other => bail!(
-                "mutant {id} is in {other}: this tool takes fp_recip and fp_sqrt (fp_exp with --below)"
-            ),
+            "fp_exp" => UnitKind::Exp,
+            other => {
+                bail!("mutant {id} is in {other}: this tool takes fp_recip, fp_sqrt and fp_exp")
+            }
         };
         jobs.push((id, kind, m.location.clone()));
     }
@@ -223,7 +293,7 @@ fn main() -> Result<()> {
                 let Some((id, kind, location)) = jobs.get(i) else {
                     break;
                 };
-                match judge(*kind, *id, all, below) {
+                match judge(*kind, *id, all, &classes) {
                     Err(e) => {
                         any_differs.store(true, std::sync::atomic::Ordering::Relaxed);
                         println!("mutant {id} ({kind}, {location}): error: {e:#}");

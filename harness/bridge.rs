@@ -320,6 +320,11 @@ pub(crate) mod ffi {
             exposure: bool,
         ) -> Result<UniquePtr<TopSim>>;
 
+        /// The fast processor's mutant netlist (cargo feature `mutation`;
+        /// exact methods, with the exponential), mutsel 0; fails if it was
+        /// not built.
+        fn new_fast_mut_top() -> Result<UniquePtr<TopSim>>;
+
         /// Builds and resets the top of `procs` fast processors (rtl/top.v
         /// with FAST = 1) with these method codes, as a top whose
         /// processors are its processors' contexts (processor * 32 +
@@ -397,6 +402,10 @@ pub(crate) mod ffi {
         /// Writes the model's coverage counts to `path` in Verilator's
         /// coverage.dat format; fails on a model built without coverage.
         fn write_coverage(self: Pin<&mut TopSim>, path: &str) -> Result<()>;
+
+        /// On a `new_fast_mut_top` model (others fail): drives mutsel = id
+        /// from now on and at every reset (0: the design as written).
+        fn set_mutant(self: Pin<&mut TopSim>, id: u16) -> Result<()>;
 
         /// Clocks until the frame drains, `max_results` results or
         /// `max_events` events are buffered, `max_cycles` cycles ran, or a

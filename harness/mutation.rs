@@ -1,20 +1,26 @@
 //! Mutation testing, MCY-style: how many small faults planted in the RTL
 //! would our checks notice (docs/mutation.md)?
 //!
-//! - The mutants: `rtl/mutate/pixel_processor.mutants`, sampled over every
-//!   module of the pixel processor by Yosys' `mutate -list` (through
-//!   `rtl/mutate/mutants.sh list`), numbered from 1, with the hash of the
-//!   RTL they were listed on ([`List`]).
+//! - The mutants: `rtl/mutate/pixel_processor.mutants` (the compact
+//!   processor) and `rtl/mutate/fast_pp.mutants` (the fast one), each
+//!   sampled over every module of its processor by Yosys' `mutate -list`
+//!   (through `rtl/mutate/mutants.sh list`), numbered from 1, with the hash
+//!   of the RTL they were listed on ([`List`], [`Files`]).
 //! - The build: with the cargo feature `mutation`, build.rs has
-//!   `mutants.sh netlist` write one netlist carrying every mutant behind
-//!   the input `mutsel` and verilates it once;
-//!   [`PixelProcessor::new_mutant`] selects one (0: the design as written).
+//!   `mutants.sh netlist` write one netlist per processor carrying every
+//!   mutant behind the input `mutsel` and verilates each once;
+//!   [`PixelProcessor::new_mutant`] and [`Top::new_fast_mutant`] select one
+//!   (0: the design as written).
 //! - The judge ([`Judge`]): a fixed list of checks, each a co-simulation of
 //!   a scene against golden's micro-op model, bit for bit and cycle for
-//!   cycle ([`cosim::run_on`]): every builtin scene at a small size, then
-//!   seeded fuzz scenes, all with the exact methods the netlist has. A
-//!   mutant is killed by the first check that diverges or errs (a hang
-//!   counts), and survives if none does.
+//!   cycle ([`cosim::run_on`]; the fast processor's through
+//!   [`cosim::run_top_on`], its cycles the barrel rule's): every builtin
+//!   scene at a small size, the directed scenes, then seeded fuzz scenes,
+//!   all with the exact methods the netlist has; and, for a mutant of the
+//!   compact processor's float units, those units cut from its netlist on
+//!   their edge cases and random operands. A mutant is killed by the first
+//!   check that diverges or errs (a hang counts), and survives if none
+//!   does.
 //! - [`run`] judges mutants in parallel on the current rayon pool, a fresh
 //!   model per mutant (nothing a previous mutant left in the register file
 //!   can matter); its [`Summary`] merges across shards like a fuzz
@@ -22,14 +28,16 @@
 //! - [`prove_equivalent`] runs `mutants.sh equiv`: Yosys proves a
 //!   survivor's module equal to the original, or fails to.
 
-use crate::cosim::{self, CosimOptions};
+use crate::cosim::{self, CosimOptions, TopOptions};
 use crate::fp_check;
 use crate::fp_unit::{FpUnit, UnitKind};
 use crate::fuzz::generate;
 use crate::operands;
 use crate::pixel_proc::{PixelProcessor, PpError};
+use crate::processor::ProcessorKind;
 use crate::scenes::with_methods;
 use crate::shard::Shard;
+use crate::top::Top;
 use golden::fp::Method;
 use golden::scene::Scene;
 use golden::window::Window;
@@ -40,11 +48,53 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-/// The committed mutant list, as the mutant netlist was built from it.
-pub const LIST_TEXT: &str = include_str!("../rtl/mutate/pixel_processor.mutants");
+/// Where one processor's mutants are committed: the list the mutant
+/// netlist is built from and its survivors' classification, as built into
+/// this rtcosim, with their paths in the checkout for messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Files {
+    pub processor: ProcessorKind,
+    pub list_path: &'static str,
+    pub list_text: &'static str,
+    pub survivors_path: &'static str,
+    pub survivors_text: &'static str,
+}
 
-/// The list's path in the checkout, for messages.
-pub const LIST_PATH: &str = "rtl/mutate/pixel_processor.mutants";
+/// The compact processor's list and survivors.
+pub const COMPACT: Files = Files {
+    processor: ProcessorKind::Compact,
+    list_path: "rtl/mutate/pixel_processor.mutants",
+    list_text: include_str!("../rtl/mutate/pixel_processor.mutants"),
+    survivors_path: "rtl/mutate/pixel_processor.survivors",
+    survivors_text: include_str!("../rtl/mutate/pixel_processor.survivors"),
+};
+
+/// The fast processor's (`MUTATE_DESIGN=fast_pp rtl/mutate/mutants.sh`).
+pub const FAST: Files = Files {
+    processor: ProcessorKind::Fast,
+    list_path: "rtl/mutate/fast_pp.mutants",
+    list_text: include_str!("../rtl/mutate/fast_pp.mutants"),
+    survivors_path: "rtl/mutate/fast_pp.survivors",
+    survivors_text: include_str!("../rtl/mutate/fast_pp.survivors"),
+};
+
+impl Files {
+    /// `processor`'s files.
+    pub fn of(processor: ProcessorKind) -> Files {
+        match processor {
+            ProcessorKind::Compact => COMPACT,
+            ProcessorKind::Fast => FAST,
+        }
+    }
+
+    /// `mutants.sh`'s name for the design (`MUTATE_DESIGN`).
+    pub fn design(&self) -> &'static str {
+        match self.processor {
+            ProcessorKind::Compact => "pixel_processor",
+            ProcessorKind::Fast => "fast_pp",
+        }
+    }
+}
 
 /// The script that lists mutants, writes the netlist and proves survivors
 /// equivalent.
@@ -77,9 +127,12 @@ pub struct Mutant {
 /// The mutant list: the RTL hash it was listed on, and its mutants.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct List {
+    /// Where it was read from: the processor it mutates.
+    pub files: Files,
     pub rtl_hash: String,
     pub mutants: Vec<Mutant>,
-    /// The survivors' classification ([`SURVIVORS_PATH`]), by mutant.
+    /// The survivors' classification ([`Files::survivors_path`]), by
+    /// mutant.
     pub classified: BTreeMap<u16, Classified>,
 }
 
@@ -92,12 +145,6 @@ pub struct ListError {
     pub line: usize,
     pub message: String,
 }
-
-/// The committed classification of the survivors of the whole campaign.
-pub const SURVIVORS_TEXT: &str = include_str!("../rtl/mutate/pixel_processor.survivors");
-
-/// Its path in the checkout, for messages.
-pub const SURVIVORS_PATH: &str = "rtl/mutate/pixel_processor.survivors";
 
 /// What a survivor is, as classified by a reader of the RTL
 /// (rtl/mutate/pixel_processor.survivors; docs/mutation.md).
@@ -149,15 +196,19 @@ pub struct Classified {
     pub reason: String,
 }
 
-/// Reads a classification: `ID CLASS reason`, one a line, `#` comments.
-pub fn parse_classification(text: &str) -> Result<BTreeMap<u16, Classified>, ListError> {
+/// Reads a classification: `ID CLASS reason`, one a line, `#` comments;
+/// `path` names it in errors.
+pub fn parse_classification(
+    path: &'static str,
+    text: &str,
+) -> Result<BTreeMap<u16, Classified>, ListError> {
     let mut found = BTreeMap::new();
     for (n, line) in text.lines().enumerate() {
         if line.starts_with('#') || line.trim().is_empty() {
             continue;
         }
         let error = |message: String| ListError {
-            path: SURVIVORS_PATH,
+            path,
             line: n + 1,
             message,
         };
@@ -195,15 +246,16 @@ fn module_name(raw: &str) -> String {
 }
 
 impl List {
-    /// The committed list.
-    pub fn committed() -> Result<List, ListError> {
-        let mut list = List::parse(LIST_TEXT)?;
-        list.classified = parse_classification(SURVIVORS_TEXT)?;
+    /// `processor`'s committed list and classification.
+    pub fn committed(processor: ProcessorKind) -> Result<List, ListError> {
+        let files = Files::of(processor);
+        let mut list = List::parse(files, files.list_text)?;
+        list.classified = parse_classification(files.survivors_path, files.survivors_text)?;
         if let Some(&id) = list.classified.keys().find(|&&id| list.get(id).is_none()) {
             return Err(ListError {
-                path: SURVIVORS_PATH,
+                path: files.survivors_path,
                 line: 0,
-                message: format!("mutant {id} is not in {LIST_PATH}"),
+                message: format!("mutant {id} is not in {}", files.list_path),
             });
         }
         Ok(list)
@@ -214,12 +266,13 @@ impl List {
         self.mutants.iter().find(|m| m.id == id)
     }
 
-    pub fn parse(text: &str) -> Result<List, ListError> {
+    /// Reads `text` as the list of `files` (whose path errors name).
+    pub fn parse(files: Files, text: &str) -> Result<List, ListError> {
         let mut rtl_hash = None;
         let mut mutants = Vec::new();
         for (n, line) in text.lines().enumerate() {
             let error = |message: String| ListError {
-                path: LIST_PATH,
+                path: files.list_path,
                 line: n + 1,
                 message,
             };
@@ -274,11 +327,12 @@ impl List {
             });
         }
         let rtl_hash = rtl_hash.ok_or(ListError {
-            path: LIST_PATH,
+            path: files.list_path,
             line: 1,
             message: "no `# rtl fnv1a64` line: not a list rtl/mutate/mutants.sh wrote".into(),
         })?;
         Ok(List {
+            files,
             rtl_hash,
             mutants,
             classified: BTreeMap::new(),
@@ -320,11 +374,15 @@ pub fn units() -> impl Iterator<Item = UnitKind> {
         .filter(|k| k.method().map_or(true, |m| m == Method::Exact))
 }
 
-impl Mutant {
-    /// Whether the mutant lies in a float unit (`rtl/fp/`, modules `fp_*`),
-    /// so that the units cut from the netlist carry it too.
-    pub fn in_float_unit(&self) -> bool {
-        self.module.starts_with("fp_")
+impl List {
+    /// Whether mutant `id` faces the float-unit checks: a mutant of the
+    /// compact processor's float units (`rtl/fp/`, modules `fp_*`), which
+    /// the units cut from its netlist carry too; one the list does not
+    /// hold faces every check. The fast processor's units are cut with
+    /// other ports (pipelines): its mutants face the scenes only.
+    pub fn in_float_unit(&self, id: u16) -> bool {
+        self.files.processor == ProcessorKind::Compact
+            && self.get(id).map_or(true, |m| m.module.starts_with("fp_"))
     }
 }
 
@@ -350,7 +408,10 @@ pub struct Directed {
 /// distance into a 16x12 image, a field of view 50 times narrower than
 /// meant (docs/mutation.md, "What stands"): each is judged as written
 /// (what it kills stays killed) and framed as the reference frames its
-/// 800 pixels, which shows the objects it was written for.
+/// 800 pixels, which shows the objects it was written for. The later ones
+/// (level_above, green_minus_zero, mirror_corridor, mirror_corridor_lit,
+/// six_planes, grazing_overflow) are written framed, and were checked to reach their states in golden's
+/// trace before they joined.
 pub const DIRECTED: &[Directed] = &[
     Directed {
         name: "planes_z_first",
@@ -405,6 +466,42 @@ pub const DIRECTED: &[Directed] = &[
         text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
         window: None,
         framed_as: Some(800),
+    },
+    Directed {
+        name: "level_above",
+        text: include_str!("../rtl/mutate/scenes/level_above.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "green_minus_zero",
+        text: include_str!("../rtl/mutate/scenes/green_minus_zero.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "mirror_corridor",
+        text: include_str!("../rtl/mutate/scenes/mirror_corridor.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "mirror_corridor_lit",
+        text: include_str!("../rtl/mutate/scenes/mirror_corridor_lit.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "six_planes",
+        text: include_str!("../rtl/mutate/scenes/six_planes.toml"),
+        window: None,
+        framed_as: None,
+    },
+    Directed {
+        name: "grazing_overflow",
+        text: include_str!("../rtl/mutate/scenes/grazing_overflow.toml"),
+        window: None,
+        framed_as: None,
     },
     Directed {
         name: "large_frame",
@@ -637,10 +734,23 @@ fn unit_check(id: u16, kind: UnitKind, a: &[u32], b: &[u32]) -> Option<String> {
     }
 }
 
-/// Judges mutant `id` (0: the design as written) on fresh models: the
-/// float-unit checks if `in_float_unit` (see [`Mutant::in_float_unit`]),
-/// then the scenes on the processor.
-pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpError> {
+/// The model a mutant's scenes run on.
+enum Model {
+    Compact(PixelProcessor),
+    /// The fast processor, driven as a top of its contexts.
+    Fast(Top),
+}
+
+/// Judges mutant `id` of `processor`'s list (0: the design as written) on
+/// fresh models: the float-unit checks if `in_float_unit` (see
+/// [`List::in_float_unit`]; the compact processor's only), then the scenes
+/// on the processor.
+pub fn judge(
+    processor: ProcessorKind,
+    id: u16,
+    in_float_unit: bool,
+    judge: &Judge,
+) -> Result<Outcome, PpError> {
     let start = Instant::now();
     let mut pixels = 0;
     let outcome = |verdict, pixels| Outcome {
@@ -649,6 +759,7 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
         pixels,
         seconds: start.elapsed().as_secs_f64(),
     };
+    let in_float_unit = in_float_unit && processor == ProcessorKind::Compact;
     for check in judge.checks.iter().filter(|_| in_float_unit) {
         let Stimulus::Unit { kind, a, b } = &check.stimulus else {
             continue;
@@ -658,21 +769,34 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
             return Ok(outcome(Verdict::Killed { check, how }, pixels));
         }
     }
-    let mut rtl = PixelProcessor::new_mutant(id)?;
     let options = CosimOptions {
         timeout_cycles: judge.spec.timeout_cycles,
         ..CosimOptions::default()
     };
-    if let Err(e) = rtl.reset() {
-        let how = e.to_string();
-        return Ok(outcome(
-            Verdict::Killed {
-                check: "reset".into(),
-                how,
-            },
-            pixels,
-        ));
-    }
+    // The fast processor resets as each scene loads: a mutant that fails
+    // its reset is killed by the first scene.
+    let mut model = match processor {
+        ProcessorKind::Compact => {
+            let mut rtl = PixelProcessor::new_mutant(id)?;
+            if let Err(e) = rtl.reset() {
+                let how = e.to_string();
+                return Ok(outcome(
+                    Verdict::Killed {
+                        check: "reset".into(),
+                        how,
+                    },
+                    pixels,
+                ));
+            }
+            Model::Compact(rtl)
+        }
+        ProcessorKind::Fast => {
+            let mut top = Top::new_fast_mutant(id)?;
+            top.set_timeout_cycles(judge.spec.timeout_cycles);
+            Model::Fast(top)
+        }
+    };
+    let fast = TopOptions::fast();
     for check in &judge.checks {
         let Stimulus::Scene { scene, window } = &check.stimulus else {
             continue;
@@ -681,7 +805,13 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
             check: check.name.clone(),
             how,
         };
-        match cosim::run_on(&mut rtl, scene, *window, &options, &mut |_| {}) {
+        let run = match &mut model {
+            Model::Compact(rtl) => cosim::run_on(rtl, scene, *window, &options, &mut |_| {}),
+            Model::Fast(top) => {
+                cosim::run_top_on(top, scene, *window, &options, &fast, &mut |_| {})
+            }
+        };
+        match run {
             Ok(report) => {
                 pixels += report.compare.counts.pixels;
                 if !report.passed() {
@@ -705,9 +835,8 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
     Ok(outcome(Verdict::Survived, pixels))
 }
 
-/// Judges `ids` in parallel on the current rayon pool; results in the
-/// order of `ids`. `progress` is called once per mutant.
-/// Mutants that `list` does not hold count as in a float unit (every check).
+/// Judges `ids` of `list` in parallel on the current rayon pool; results
+/// in the order of `ids`. `progress` is called once per mutant.
 pub fn run(
     ids: &[u16],
     list: &List,
@@ -716,8 +845,7 @@ pub fn run(
 ) -> Result<Vec<Outcome>, PpError> {
     ids.par_iter()
         .map(|&id| {
-            let in_unit = list.get(id).map_or(true, Mutant::in_float_unit);
-            let o = judge(id, in_unit, judge_);
+            let o = judge(list.files.processor, id, list.in_float_unit(id), judge_);
             progress(1);
             o
         })
@@ -738,9 +866,13 @@ pub enum Equivalence {
     Timeout,
 }
 
-/// Runs `rtl/mutate/mutants.sh equiv` on `ids` (Yosys; seconds a mutant,
-/// up to its time limit), with the design the build prepared.
-pub fn prove_equivalent(ids: &[u16]) -> Result<BTreeMap<u16, Equivalence>, String> {
+/// Runs `rtl/mutate/mutants.sh equiv` on `ids` of `processor`'s list
+/// (Yosys; seconds a mutant, up to its time limit), with the design the
+/// build prepared.
+pub fn prove_equivalent(
+    processor: ProcessorKind,
+    ids: &[u16],
+) -> Result<BTreeMap<u16, Equivalence>, String> {
     if ids.is_empty() {
         return Ok(BTreeMap::new());
     }
@@ -750,6 +882,7 @@ pub fn prove_equivalent(ids: &[u16]) -> Result<BTreeMap<u16, Equivalence>, Strin
         .arg("equiv")
         .args(ids.iter().map(u16::to_string))
         .env("MUTATE_CACHE", Path::new(env!("OUT_DIR")).join("mutate"))
+        .env("MUTATE_DESIGN", Files::of(processor).design())
         .output()
         .map_err(|e| format!("running {}: {e}", script.display()))?;
     if !o.status.success() {
@@ -790,6 +923,9 @@ pub fn prove_equivalent(ids: &[u16]) -> Result<BTreeMap<u16, Equivalence>, Strin
 /// Every option of a campaign that affects its results.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Campaign {
+    /// Whose mutants (shard files before the fast processor's: compact).
+    #[serde(default)]
+    pub processor: ProcessorKind,
     pub judge: JudgeSpec,
     /// The mutants judged, in order (the work list).
     pub mutants: Vec<u16>,
@@ -871,7 +1007,7 @@ fn percent(part: u64, whole: u64) -> String {
 
 impl Summary {
     /// Whether survivor `id` is proved equivalent (Yosys, this run) or
-    /// classified equivalent or unreachable ([`SURVIVORS_PATH`]).
+    /// classified equivalent or unreachable ([`Files::survivors_path`]).
     pub fn is_equivalent(&self, list: &List, id: u16) -> bool {
         self.outcomes
             .iter()
@@ -929,8 +1065,9 @@ impl Summary {
         let _ = writeln!(
             s,
             "score of those neither proved nor argued equivalent: {} ({argued} survivors are; \
-             {SURVIVORS_PATH}: {} equivalent, {} unreachable, {} holes, {} open, {} not classified)",
+             {}: {} equivalent, {} unreachable, {} holes, {} open, {} not classified)",
             percent(killed, n - argued),
+            list.files.survivors_path,
             classes(Class::Equivalent),
             classes(Class::Unreachable),
             classes(Class::Hole),
@@ -1040,9 +1177,11 @@ mod tests {
 
     #[test]
     fn a_classification_reads_or_names_the_bad_line() {
-        let ok =
-            parse_classification("# c\n4 unreachable only when x | y\n9 hole a deeper scene\n")
-                .expect("reads");
+        let ok = parse_classification(
+            COMPACT.survivors_path,
+            "# c\n4 unreachable only when x | y\n9 hole a deeper scene\n",
+        )
+        .expect("reads");
         assert_eq!(ok[&4].class, Class::Unreachable);
         assert_eq!(ok[&4].reason, "only when x | y");
         assert!(ok[&4].class.is_equivalent() && !ok[&9].class.is_equivalent());
@@ -1052,13 +1191,17 @@ mod tests {
             ("4 hole", "not `ID CLASS reason`"),
             ("4 hole a\n4 open b", "classified twice"),
         ] {
-            let e = parse_classification(bad).expect_err(bad).to_string();
+            let e = parse_classification(FAST.survivors_path, bad)
+                .expect_err(bad)
+                .to_string();
             assert!(
-                e.starts_with(SURVIVORS_PATH) && e.contains(says),
+                e.starts_with(FAST.survivors_path) && e.contains(says),
                 "{bad}: {e}"
             );
         }
-        List::committed().expect("the committed list and classification read");
+        for processor in [ProcessorKind::Compact, ProcessorKind::Fast] {
+            List::committed(processor).expect("the committed list and classification read");
+        }
     }
 
     #[test]
@@ -1072,21 +1215,53 @@ mod tests {
     }
 
     #[test]
-    fn the_committed_list_reads_and_numbers_its_mutants_from_one() {
-        let list = List::committed().unwrap();
-        assert!(list.mutants.len() >= 1000, "{} mutants", list.mutants.len());
-        for (i, m) in list.mutants.iter().enumerate() {
-            assert_eq!(usize::from(m.id), i + 1);
-            assert!(m.command.starts_with("mutate -mode "));
-            assert!(
-                m.location.starts_with("rtl/") || m.location == "(no source line)",
-                "{m:?}"
+    fn the_committed_lists_read_and_number_their_mutants_from_one() {
+        for (processor, some_modules) in [
+            (
+                ProcessorKind::Compact,
+                ["pp_ctrl", "alu", "memory", "fp_add", "fp_recip"],
+            ),
+            (
+                ProcessorKind::Fast,
+                [
+                    "fast_ctrl",
+                    "fast_alu",
+                    "fast_regfile",
+                    "fast_fp_add",
+                    "fast_fp_recip",
+                ],
+            ),
+        ] {
+            let list = List::committed(processor).unwrap();
+            assert_eq!(list.files.processor, processor);
+            assert!(list.mutants.len() >= 1000, "{} mutants", list.mutants.len());
+            for (i, m) in list.mutants.iter().enumerate() {
+                assert_eq!(usize::from(m.id), i + 1);
+                assert!(m.command.starts_with("mutate -mode "));
+                assert!(
+                    m.location.starts_with("rtl/") || m.location == "(no source line)",
+                    "{m:?}"
+                );
+            }
+            let modules: std::collections::BTreeSet<&str> =
+                list.mutants.iter().map(|m| m.module.as_str()).collect();
+            for m in some_modules {
+                assert!(
+                    modules.contains(m),
+                    "{processor}: no mutant of {m}: {modules:?}"
+                );
+            }
+            // Only the compact processor's float units are cut with the
+            // ports the unit checks drive.
+            let fp = list
+                .mutants
+                .iter()
+                .find(|m| m.module.contains("fp_"))
+                .unwrap();
+            assert_eq!(
+                list.in_float_unit(fp.id),
+                processor == ProcessorKind::Compact
             );
-        }
-        let modules: std::collections::BTreeSet<&str> =
-            list.mutants.iter().map(|m| m.module.as_str()).collect();
-        for m in ["pp_ctrl", "alu", "memory", "fp_add", "fp_recip"] {
-            assert!(modules.contains(m), "no mutant of {m}: {modules:?}");
         }
     }
 
@@ -1094,13 +1269,13 @@ mod tests {
     fn a_list_out_of_order_or_without_its_hash_is_refused() {
         let head = "# rtl fnv1a64 0123\n";
         let line = "mutate -mode inv -module pp_ctrl -cell x -port Y -src rtl/pp/pp_ctrl.v:5.1-5.2";
-        let ok = List::parse(&format!("{head}1 {line}\n2 {line}\n")).unwrap();
+        let ok = List::parse(COMPACT, &format!("{head}1 {line}\n2 {line}\n")).unwrap();
         assert_eq!(ok.mutants[1].location, "rtl/pp/pp_ctrl.v:5");
-        let e = List::parse(&format!("{head}1 {line}\n3 {line}\n")).unwrap_err();
+        let e = List::parse(COMPACT, &format!("{head}1 {line}\n3 {line}\n")).unwrap_err();
         assert_eq!(e.line, 3);
         assert!(e.message.contains("expected 2"), "{e}");
-        assert!(List::parse(&format!("1 {line}\n")).is_err());
-        let e = List::parse(&format!("{head}1 mutant -mode inv\n")).unwrap_err();
+        assert!(List::parse(COMPACT, &format!("1 {line}\n")).is_err());
+        let e = List::parse(COMPACT, &format!("{head}1 mutant -mode inv\n")).unwrap_err();
         assert!(e.message.contains("not a `mutate` command"), "{e}");
     }
 }

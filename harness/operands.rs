@@ -152,6 +152,7 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     match kind {
         UnitKind::Recip(_) => a.extend(RECIP_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
         UnitKind::Sqrt(_) => a.extend(SQRT_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
+        UnitKind::Exp => a.extend(EXP_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
         _ => {}
     }
     (a, Vec::new())
@@ -176,6 +177,19 @@ pub const RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
 pub const SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
     (0x3F84_4570, 686), // rem_full[13] flipped by bit 8 (fp_sqrt.v:152): 43 operands of 16.8M
     (0x406E_9372, 872), // rem_full[8] inverted into rem_q (:232): 1
+];
+
+/// `fp_exp` operands that kill mutants the other edge cases and the random
+/// operands miss, found by `examples/mutant_exhaustive.rs` (its exponent
+/// sweep, then one operand for each value of the unit's fixed-point input
+/// below |a| = 128): each the smallest that differs in the first batch that
+/// had one; see [`RECIP_MUTANT_KILLERS`].
+pub const EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0xB4AE_553E, 58),  // u_q[6] forced 1 in p = 1 + g*u (fp_exp.v:113)
+    (0x3951_2AB0, 287), // u_next[2] inverted (:124)
+    (0x3980_0400, 425), // in_man[4] inverted into x_right (:85)
+    (0x399E_81E8, 655), // u_next[1] flipped by bit 19 (:124)
+    (0x3380_8000, 859), // s[35] inverted: the sticky or sig's low bit (:128)
 ];
 
 /// Operands of each step count of the exact methods' correction (for either

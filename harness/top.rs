@@ -196,6 +196,21 @@ impl Top {
         Ok(top)
     }
 
+    /// The fast processor's mutant netlist (cargo feature `mutation`:
+    /// exact methods, with the exponential) with mutant `id` of
+    /// `rtl/mutate/fast_pp.mutants` selected (0: the design as written),
+    /// for [`crate::mutation`]; [`Top::load_scene`] resets it with the
+    /// mutant in place (a mutant may fail its reset).
+    pub fn new_fast_mutant(id: u16) -> Result<Top, PpError> {
+        let mut top =
+            Top::fast_around(ffi::new_fast_mut_top(), Method::Exact, Method::Exact, true)?;
+        top.inner
+            .pin_mut()
+            .set_mutant(id)
+            .map_err(|e| model_error(None, e.what()))?;
+        Ok(top)
+    }
+
     /// [`Top::new_fast_variant`] on the variant verilated with
     /// `--trace-fst`, for the waveform window ([`crate::wave`]).
     pub(crate) fn new_fast_wave(

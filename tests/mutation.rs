@@ -92,7 +92,7 @@ fn listed_hash(list: &str) -> String {
 fn the_mutant_lists_were_listed_on_todays_rtl() {
     let today = script(SMOKE_LIST, &["hash"]).trim().to_string();
     assert_eq!(today.len(), 16, "{SCRIPT} hash: {today:?}");
-    for list in [rtcosim::mutation::LIST_PATH, SMOKE_LIST] {
+    for list in [rtcosim::mutation::COMPACT.list_path, SMOKE_LIST] {
         assert_eq!(
             listed_hash(list),
             today,
@@ -310,6 +310,90 @@ fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
     );
 }
 
+/// The fast processor's mutants (cargo feature `mutation`): judged on its
+/// own netlist (rtl/mutate/fast_pp.mutants behind `mutsel`, driven as a top
+/// of its contexts), and its shards merge through the fast list: the design
+/// passes, mutants of its modules are killed and named by them.
+#[cfg(feature = "mutation")]
+#[test]
+fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
+    use common::{arg, both, rtcosim, scratch, text};
+    let dir = scratch("mutation", "fast");
+    let judge = [
+        "mutate",
+        "--processor",
+        "fast",
+        "--mutants",
+        "1-4",
+        "--size",
+        "8x6",
+        "--fuzz",
+        "1",
+    ];
+    let whole = dir.join("whole");
+    let mut args = judge.to_vec();
+    args.extend(["--out", arg(&whole)]);
+    let out = rtcosim(&args);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("rtl/mutate/fast_pp.mutants")
+            && stdout.contains("the netlist with no mutant selected passes the judge")
+            && stdout.contains("fast checks"),
+        "{}",
+        both(&out)
+    );
+    let report = std::fs::read_to_string(whole.join("mutation-report.md")).expect("report");
+    assert!(
+        report.contains("| fast_") && !report.contains("| pp_ctrl"),
+        "{report}"
+    );
+    let json = |dir: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("mutation.json")).expect("json"))
+            .expect("JSON")
+    };
+    let got = json(&whole)["outcomes"].clone();
+    let killed = got
+        .as_array()
+        .expect("outcomes")
+        .iter()
+        .filter(|o| o["verdict"] == "killed")
+        .count();
+    assert!(killed >= 1, "{got}");
+    let shards = dir.join("shards");
+    for k in ["0/2", "1/2"] {
+        let mut args = judge.to_vec();
+        args.extend(["--shard", k, "--out", arg(&shards)]);
+        let out = rtcosim(&args);
+        assert!(text(&out.stdout).contains("wrote"), "{}", both(&out));
+    }
+    let merged = dir.join("merged");
+    let out = rtcosim(&["merge", arg(&shards), "--out", arg(&merged)]);
+    let verdicts = |v: &serde_json::Value| -> Vec<(u64, String)> {
+        v.as_array()
+            .expect("outcomes")
+            .iter()
+            .map(|o| (o["id"].as_u64().expect("id"), o["verdict"].to_string()))
+            .collect()
+    };
+    assert_eq!(
+        verdicts(&json(&merged)["outcomes"]),
+        verdicts(&got),
+        "{}",
+        both(&out)
+    );
+    let merged_report =
+        std::fs::read_to_string(merged.join("mutation-report.md")).expect("merged report");
+    // The merge read the fast processor's list and classification.
+    assert!(
+        merged_report.contains("rtl/mutate/fast_pp.survivors") && merged_report.contains("| fast_"),
+        "{merged_report}"
+    );
+    common::assert_refused(
+        &["mutate", "--processor", "fast", "--mutants", "1201"],
+        &["there is no mutant 1201", "rtl/mutate/fast_pp.mutants"],
+    );
+}
+
 /// The judge's float-unit stage (cargo feature `mutation`): mutant 1
 /// (fp_lzc.v:33, a select bit of the count forced to 0; it survived every
 /// scene of the judge before the stage existed) is killed by a float unit's
@@ -402,10 +486,13 @@ fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
 fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
     use golden::fp::Method;
     use rtcosim::fp_unit::{FpUnit, UnitKind};
-    use rtcosim::operands::{edge_cases, RECIP_MUTANT_KILLERS, SQRT_MUTANT_KILLERS};
+    use rtcosim::operands::{
+        edge_cases, EXP_MUTANT_KILLERS, RECIP_MUTANT_KILLERS, SQRT_MUTANT_KILLERS,
+    };
     for (kind, killers) in [
         (UnitKind::Recip(Method::Exact), RECIP_MUTANT_KILLERS),
         (UnitKind::Sqrt(Method::Exact), SQRT_MUTANT_KILLERS),
+        (UnitKind::Exp, EXP_MUTANT_KILLERS),
     ] {
         let (edges, _) = edge_cases(kind);
         for &(a, id) in killers {

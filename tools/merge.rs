@@ -107,7 +107,7 @@ fn merge_fuzz(set: ShardSet, first: &Path, args: &MergeArgs) -> Result<bool> {
 
 fn merge_mutate(set: ShardSet, first: &Path, args: &MergeArgs) -> Result<bool> {
     let campaign: mutation::Campaign = config(&set, first)?;
-    let list = mutation::List::committed()?;
+    let list = mutation::List::committed(campaign.processor)?;
     if list.rtl_hash != campaign.rtl_hash {
         anyhow::bail!(
             "{}: its mutants were listed on other RTL (fnv1a64 {}, this rtcosim's list {})",

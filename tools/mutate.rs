@@ -1,4 +1,4 @@
-//! `rtcosim mutate`: mutants of the pixel processor judged against golden
+//! `rtcosim mutate`: mutants of a pixel processor judged against golden
 //! (harness::mutation, docs/mutation.md).
 
 use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
@@ -6,6 +6,7 @@ use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use rtcosim::mutation::{self, Campaign, Judge, JudgeSpec, List, Summary};
 use rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES;
+use rtcosim::processor::ProcessorKind;
 use rtcosim::shard::file::{self as shard_file, ShardFile};
 use rtcosim::shard::Shard;
 use std::io::Write;
@@ -14,8 +15,13 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct MutateArgs {
-    /// The mutants to judge, by number in rtl/mutate/pixel_processor.mutants:
-    /// a comma-separated list of N and N-M (default: every one).
+    /// Whose mutants: the compact processor's
+    /// (rtl/mutate/pixel_processor.mutants) or the fast one's
+    /// (rtl/mutate/fast_pp.mutants).
+    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    pub processor: ProcessorKind,
+    /// The mutants to judge, by number in the processor's list: a
+    /// comma-separated list of N and N-M (default: every one).
     #[arg(long, value_name = "LIST", value_parser = parse_ids)]
     pub mutants: Option<MutantIds>,
     /// The size the judge runs every builtin scene at.
@@ -28,7 +34,8 @@ pub struct MutateArgs {
     #[arg(long, value_name = "SEED", default_value_t = 1)]
     pub fuzz_seed: u64,
     /// Seeded random operands (seed: --fuzz-seed) through each float unit,
-    /// after its edge cases, for a mutant of a float unit.
+    /// after its edge cases, for a mutant of a float unit (the compact
+    /// processor's).
     #[arg(long, value_name = "N", default_value_t = 10_000)]
     pub unit_operands: u64,
     /// Cycles a pixel may take before the mutant counts as hung (killed).
@@ -90,14 +97,14 @@ pub fn run(args: MutateArgs) -> Result<bool> {
              `mutation` (needs yosys): cargo run --release --features mutation -- mutate ..."
         );
     }
-    let list = List::committed()?;
+    let list = List::committed(args.processor)?;
     let total = list.mutants.len();
     let mutants: Vec<u16> = match &args.mutants {
         Some(MutantIds(ids)) => {
             if let Some(bad) = ids.iter().find(|&&id| usize::from(id) > total) {
                 anyhow::bail!(
                     "--mutants: there is no mutant {bad}: {} lists 1..={total}",
-                    mutation::LIST_PATH
+                    list.files.list_path
                 );
             }
             ids.clone()
@@ -121,6 +128,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     };
     let judge = Judge::new(spec)?;
     let campaign = Campaign {
+        processor: args.processor,
         judge: spec,
         mutants,
         rtl_hash: list.rtl_hash.clone(),
@@ -134,7 +142,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         out,
         "rtcosim mutate: {} of the {total} mutants of {}{}, {threads} thread{}, {}",
         campaign.mutants.len(),
-        mutation::LIST_PATH,
+        list.files.list_path,
         shard.map_or(String::new(), |s| format!(
             ", shard {s} ({} mutants)",
             ids.len()
@@ -142,28 +150,38 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
+    let units = match args.processor {
+        ProcessorKind::Compact => format!(
+            "for a mutant of a float unit, its edge cases and {} random operands through each of the {} units \
+             ({} operands); ",
+            spec.unit_operands,
+            mutation::units().count(),
+            judge.unit_operands()
+        ),
+        ProcessorKind::Fast => String::new(),
+    };
     writeln!(
         out,
-        "judge: for a mutant of a float unit, its edge cases and {} random operands through each of the {} units \
-         ({} operands); every builtin scene at {}x{}, the {} directed scenes of rtl/mutate/scenes/, and the {} of {} \
-         fuzz scenes of seed {} that load: {} checks, {} pixels",
-        spec.unit_operands,
-        mutation::units().count(),
-        judge.unit_operands(),
+        "judge: {units}every builtin scene at {}x{}, the {} directed scenes of rtl/mutate/scenes/, and the {} of {} \
+         fuzz scenes of seed {} that load: {} {} checks, {} pixels",
         spec.width,
         spec.height,
         mutation::directed_checks(),
         judge.scenes() - golden::scene::Scene::builtin_names().len() - mutation::directed_checks(),
         spec.fuzz_count,
         spec.fuzz_seed,
-        judge.checks.len(),
+        match args.processor {
+            ProcessorKind::Compact => judge.checks.len(),
+            ProcessorKind::Fast => judge.scenes(),
+        },
+        args.processor,
         judge.pixels()
     )?;
     out.flush()?;
     // The netlist with no mutant selected must pass, or nothing below means
     // anything.
     let start = Instant::now();
-    let baseline = mutation::judge(0, true, &judge)?;
+    let baseline = mutation::judge(args.processor, 0, true, &judge)?;
     if let mutation::Verdict::Killed { check, how } = &baseline.verdict {
         anyhow::bail!(
             "the netlist with no mutant selected (mutsel = 0) fails the judge at {check}: {how}"
@@ -184,7 +202,10 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     let outcomes = pool.install(|| mutation::run(&ids, &list, &judge, &|n| bar.inc(n)))?;
     bar.finish_and_clear();
     let mut summary = Summary {
-        checks: judge.checks.len() as u64,
+        checks: match args.processor {
+            ProcessorKind::Compact => judge.checks.len(),
+            ProcessorKind::Fast => judge.scenes(),
+        } as u64,
         judge_pixels: judge.pixels(),
         outcomes,
         equivalence: Default::default(),
@@ -198,8 +219,8 @@ pub fn run(args: MutateArgs) -> Result<bool> {
             plural(survivors.len() as u64)
         )?;
         out.flush()?;
-        summary.equivalence =
-            mutation::prove_equivalent(&survivors).map_err(|e| anyhow::anyhow!("--equiv: {e}"))?;
+        summary.equivalence = mutation::prove_equivalent(args.processor, &survivors)
+            .map_err(|e| anyhow::anyhow!("--equiv: {e}"))?;
     }
     match (shard, &args.out) {
         (Some(shard), Some(dir)) => {

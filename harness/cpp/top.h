@@ -24,6 +24,9 @@ public:
     // One broadcast scene-port write at a rising edge; throws while a frame
     // is in flight or scene_ready is low.
     virtual void write_scene(bool cfg, std::uint8_t addr, std::uint32_t x, std::uint32_t y, std::uint32_t z) = 0;
+    // The mutant netlist (new_fast_mut_top): drives mutsel = id from now on
+    // and at every reset (0: the design as written); throws on the others.
+    virtual void set_mutant(std::uint16_t id) = 0;
     // Drives fault_state, fault_xor and fault_procs from now on.
     virtual void set_fault(std::uint16_t state, std::uint32_t xor_mask, std::uint32_t procs_mask) = 0;
     // out_ready low in `stall_percent` % of the cycles, from a xorshift
@@ -91,6 +94,10 @@ std::unique_ptr<TopSim> new_fast_wave_top(std::uint32_t recip_method, std::uint3
 // The same, verilated with coverage (cargo feature `coverage`); throws if
 // that variant was not built.
 std::unique_ptr<TopSim> new_fast_cov_top(std::uint32_t recip_method, std::uint32_t sqrt_method, bool exposure);
+
+// The fast processor's mutant netlist (cargo feature `mutation`; exact
+// methods, with the exponential), mutsel 0; throws if it was not built.
+std::unique_ptr<TopSim> new_fast_mut_top();
 
 // Builds and resets the top of `procs` fast processors (rtl/top.v with
 // FAST = 1) verilated with these method codes; its slots are processor *
