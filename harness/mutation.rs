@@ -354,6 +354,16 @@ pub struct Check {
 pub enum Stimulus {
     /// A scene co-simulated over a window on the processor.
     Scene { scene: Box<Scene>, window: Window },
+    /// For each cut c in `cuts`: the window's first pixel started and the
+    /// processor reset after c cycles (by the watchdog, mid-operation),
+    /// then the window co-simulated from that reset: a reset at any cycle
+    /// must leave nothing behind. The compact processor's only (the fast
+    /// one's driver runs whole frames).
+    ResetMidPixel {
+        scene: Box<Scene>,
+        window: Window,
+        cuts: std::ops::RangeInclusive<u64>,
+    },
     /// Operands through one float unit cut from the mutant netlist, each
     /// result against golden's bits and each operation's cycles against
     /// its latency ([`fp_check::check_batch`]). Only a mutant of a float
@@ -587,6 +597,7 @@ impl Judge {
                 },
             })
         };
+        let mut resets = None;
         for name in Scene::builtin_names() {
             let what = format!("builtin {name} {}x{}", spec.width, spec.height);
             let scene = Scene::builtin(name)
@@ -601,6 +612,19 @@ impl Judge {
                 })?;
             let scene = exact(&scene, &what)?;
             let window = Window::full(&scene);
+            if *name == "reference" {
+                // Its middle pixel, cut short at every cycle of its start
+                // (judged after the fuzz scenes).
+                let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+                resets = Some(Check {
+                    name: format!("reset mid-pixel: {what} pixel ({x}, {y}) cut after 1..={RESET_CUTS} cycles"),
+                    stimulus: Stimulus::ResetMidPixel {
+                        scene: Box::new(scene.clone()),
+                        window: Window::new(x, y, 1, 1),
+                        cuts: 1..=RESET_CUTS,
+                    },
+                });
+            }
             scene_check(what, scene, window);
         }
         // Every file as written, then the framed ones framed.
@@ -650,10 +674,11 @@ impl Judge {
             let window = Window::full(&scene);
             scene_check(what, scene, window);
         }
+        checks.extend(resets);
         Ok(Judge { spec, checks })
     }
 
-    /// The scene checks.
+    /// The scene checks (without the resets mid-pixel).
     pub fn scenes(&self) -> usize {
         self.checks
             .iter()
@@ -661,12 +686,25 @@ impl Judge {
             .count()
     }
 
-    /// The pixels one mutant faces if it survives.
-    pub fn pixels(&self) -> u64 {
+    /// The checks a mutant of `processor` faces if it survives (the unit
+    /// checks only for a mutant of the compact processor's float units).
+    pub fn checks_for(&self, processor: ProcessorKind) -> usize {
+        match processor {
+            ProcessorKind::Compact => self.checks.len(),
+            ProcessorKind::Fast => self.scenes(),
+        }
+    }
+
+    /// The pixels one mutant of `processor` faces if it survives.
+    pub fn pixels(&self, processor: ProcessorKind) -> u64 {
         self.checks
             .iter()
             .map(|c| match &c.stimulus {
                 Stimulus::Scene { window, .. } => window.pixels(),
+                Stimulus::ResetMidPixel { window, cuts, .. } => match processor {
+                    ProcessorKind::Compact => window.pixels() * cuts.clone().count() as u64,
+                    ProcessorKind::Fast => 0,
+                },
                 Stimulus::Unit { .. } => 0,
             })
             .sum()
@@ -678,7 +716,7 @@ impl Judge {
         self.checks
             .iter()
             .map(|c| match &c.stimulus {
-                Stimulus::Scene { .. } => 0,
+                Stimulus::Scene { .. } | Stimulus::ResetMidPixel { .. } => 0,
                 Stimulus::Unit { a, .. } => a.len() as u64,
             })
             .sum()
@@ -798,41 +836,88 @@ pub fn judge(
     };
     let fast = TopOptions::fast();
     for check in &judge.checks {
-        let Stimulus::Scene { scene, window } = &check.stimulus else {
-            continue;
+        let (scene, window, cuts) = match &check.stimulus {
+            Stimulus::Scene { scene, window } => (scene, *window, None),
+            Stimulus::ResetMidPixel {
+                scene,
+                window,
+                cuts,
+            } => (scene, *window, Some(cuts.clone())),
+            Stimulus::Unit { .. } => continue,
         };
         let killed = |how: String| Verdict::Killed {
             check: check.name.clone(),
             how,
         };
-        let run = match &mut model {
-            Model::Compact(rtl) => cosim::run_on(rtl, scene, *window, &options, &mut |_| {}),
-            Model::Fast(top) => {
-                cosim::run_top_on(top, scene, *window, &options, &fast, &mut |_| {})
-            }
+        // The first failing run kills: a reset check stops at its first
+        // failing cut.
+        let failed = match (&mut model, cuts) {
+            (Model::Compact(rtl), None) => failure(
+                cosim::run_on(rtl, scene, window, &options, &mut |_| {}),
+                &mut pixels,
+            ),
+            (Model::Compact(rtl), Some(mut cuts)) => cuts.find_map(|cut| {
+                let run = cut_short(rtl, scene, window, cut, &options)
+                    .and_then(|()| cosim::run_on(rtl, scene, window, &options, &mut |_| {}));
+                failure(run, &mut pixels)
+            }),
+            (Model::Fast(top), None) => failure(
+                cosim::run_top_on(top, scene, window, &options, &fast, &mut |_| {}),
+                &mut pixels,
+            ),
+            (Model::Fast(_), Some(_)) => continue,
         };
-        match run {
-            Ok(report) => {
-                pixels += report.compare.counts.pixels;
-                if !report.passed() {
-                    let how = match &report.compare.first_divergence {
-                        Some(d) => d
-                            .text(&report.compare.labels)
-                            .to_string()
-                            .lines()
-                            .next()
-                            .unwrap_or("diverges")
-                            .trim()
-                            .to_string(),
-                        None => "no events compared".to_string(),
-                    };
-                    return Ok(outcome(killed(how), pixels));
-                }
-            }
-            Err(e) => return Ok(outcome(killed(format!("the run failed: {e}")), pixels)),
+        if let Some(how) = failed {
+            return Ok(outcome(killed(how), pixels));
         }
     }
     Ok(outcome(Verdict::Survived, pixels))
+}
+
+/// How a scene run failed (its first divergence's line, or the error), or
+/// `None` if it passed; counts its pixels.
+fn failure(run: Result<cosim::CosimReport, cosim::CosimError>, pixels: &mut u64) -> Option<String> {
+    match run {
+        Ok(report) => {
+            *pixels += report.compare.counts.pixels;
+            (!report.passed()).then(|| match &report.compare.first_divergence {
+                Some(d) => d
+                    .text(&report.compare.labels)
+                    .to_string()
+                    .lines()
+                    .next()
+                    .unwrap_or("diverges")
+                    .trim()
+                    .to_string(),
+                None => "no events compared".to_string(),
+            })
+        }
+        Err(e) => Some(format!("the run failed: {e}")),
+    }
+}
+
+/// The cycles [`Stimulus::ResetMidPixel`] cuts a pixel after: 1 to this.
+pub const RESET_CUTS: u64 = 300;
+
+/// Loads `scene` into `rtl`, starts `window`'s first pixel and lets the
+/// watchdog stop it after `cut` cycles (a pixel done sooner is fine), then
+/// restores the judge's timeout; the next run's load resets it.
+fn cut_short(
+    rtl: &mut PixelProcessor,
+    scene: &Scene,
+    window: Window,
+    cut: u64,
+    options: &CosimOptions,
+) -> Result<(), cosim::CosimError> {
+    rtl.load_scene(scene)?;
+    rtl.set_timeout_cycles(cut);
+    let (x, y) = window.iter().next().unwrap_or((0, 0));
+    let run = rtl.run_pixel(x, y, None);
+    rtl.set_timeout_cycles(options.timeout_cycles);
+    match run {
+        Ok(_) | Err(PpError::Hung { .. }) => Ok(()),
+        Err(e) => Err(e.into()),
+    }
 }
 
 /// Judges `ids` of `list` in parallel on the current rayon pool; results

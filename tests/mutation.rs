@@ -417,6 +417,52 @@ fn the_float_unit_stage_kills_a_mutant_every_scene_misses() {
     );
 }
 
+/// The judge's reset check (cargo feature `mutation`): mutant 626
+/// (pp_core.v:28, the ALU's rst_n tied high) survives every scene, whose
+/// runs reset the processor only between pixels with the ALU idle, and is
+/// killed by a reset in the middle of a pixel; the design passes it.
+#[cfg(feature = "mutation")]
+#[test]
+fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
+    use rtcosim::mutation::{judge, Judge, JudgeSpec, Stimulus, Verdict};
+    use rtcosim::processor::ProcessorKind;
+    let spec = JudgeSpec {
+        width: 8,
+        height: 6,
+        fuzz_seed: 1,
+        fuzz_count: 0,
+        unit_operands: 0,
+        timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
+    };
+    let full = Judge::new(spec).expect("the judge");
+    let resets = |j: &Judge| {
+        j.checks
+            .iter()
+            .filter(|c| matches!(c.stimulus, Stimulus::ResetMidPixel { .. }))
+            .count()
+    };
+    assert_eq!(resets(&full), 1);
+    let mut scenes_only = full.clone();
+    scenes_only
+        .checks
+        .retain(|c| !matches!(c.stimulus, Stimulus::ResetMidPixel { .. }));
+    let verdict = |id, j: &Judge| {
+        judge(ProcessorKind::Compact, id, false, j)
+            .expect("judged")
+            .verdict
+    };
+    assert_eq!(
+        verdict(0, &full),
+        Verdict::Survived,
+        "the design fails the reset check"
+    );
+    assert_eq!(verdict(626, &scenes_only), Verdict::Survived);
+    match verdict(626, &full) {
+        Verdict::Killed { check, .. } => assert!(check.starts_with("reset mid-pixel"), "{check}"),
+        Verdict::Survived => panic!("mutant 626 survived a reset mid-pixel"),
+    }
+}
+
 /// Only the exact methods are cut from the mutant netlist: asking for
 /// another unit is a clear error, not a crash.
 #[cfg(feature = "mutation")]

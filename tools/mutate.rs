@@ -153,10 +153,11 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     let units = match args.processor {
         ProcessorKind::Compact => format!(
             "for a mutant of a float unit, its edge cases and {} random operands through each of the {} units \
-             ({} operands); ",
+             ({} operands); the reference's middle pixel reset after each of its first {} cycles; ",
             spec.unit_operands,
             mutation::units().count(),
-            judge.unit_operands()
+            judge.unit_operands(),
+            mutation::RESET_CUTS
         ),
         ProcessorKind::Fast => String::new(),
     };
@@ -170,12 +171,9 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         judge.scenes() - golden::scene::Scene::builtin_names().len() - mutation::directed_checks(),
         spec.fuzz_count,
         spec.fuzz_seed,
-        match args.processor {
-            ProcessorKind::Compact => judge.checks.len(),
-            ProcessorKind::Fast => judge.scenes(),
-        },
+        judge.checks_for(args.processor),
         args.processor,
-        judge.pixels()
+        judge.pixels(args.processor)
     )?;
     out.flush()?;
     // The netlist with no mutant selected must pass, or nothing below means
@@ -202,11 +200,8 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     let outcomes = pool.install(|| mutation::run(&ids, &list, &judge, &|n| bar.inc(n)))?;
     bar.finish_and_clear();
     let mut summary = Summary {
-        checks: match args.processor {
-            ProcessorKind::Compact => judge.checks.len(),
-            ProcessorKind::Fast => judge.scenes(),
-        } as u64,
-        judge_pixels: judge.pixels(),
+        checks: judge.checks_for(args.processor) as u64,
+        judge_pixels: judge.pixels(args.processor),
         outcomes,
         equivalence: Default::default(),
     };
