@@ -411,6 +411,18 @@ pub struct Directed {
     pub framed_as: Option<u32>,
 }
 
+/// A [`Directed`] scene from its file `rtl/mutate/scenes/NAME.toml`.
+macro_rules! directed {
+    ($name:literal, $window:expr, $framed_as:expr) => {
+        Directed {
+            name: $name,
+            text: include_str!(concat!("../rtl/mutate/scenes/", $name, ".toml")),
+            window: $window,
+            framed_as: $framed_as,
+        }
+    };
+}
+
 /// The judge's directed scenes (`rtl/mutate/scenes/`, docs/mutation.md):
 /// written to kill survivors that the builtin and fuzz scenes miss, each
 /// named in its file's header; judged whole at their own size, or on the
@@ -423,102 +435,22 @@ pub struct Directed {
 /// six_planes, grazing_overflow) are written framed, and were checked to reach their states in golden's
 /// trace before they joined.
 pub const DIRECTED: &[Directed] = &[
-    Directed {
-        name: "planes_z_first",
-        text: include_str!("../rtl/mutate/scenes/planes_z_first.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "planes_x_last",
-        text: include_str!("../rtl/mutate/scenes/planes_x_last.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "camera_roll",
-        text: include_str!("../rtl/mutate/scenes/camera_roll.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "camera_level",
-        text: include_str!("../rtl/mutate/scenes/camera_level.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "shortcut_alone",
-        text: include_str!("../rtl/mutate/scenes/shortcut_alone.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "materials",
-        text: include_str!("../rtl/mutate/scenes/materials.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "mirror_shallow",
-        text: include_str!("../rtl/mutate/scenes/mirror_shallow.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "weight_cutoff",
-        text: include_str!("../rtl/mutate/scenes/weight_cutoff.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "deep_mirrors",
-        text: include_str!("../rtl/mutate/scenes/deep_mirrors.toml"),
-        window: None,
-        framed_as: Some(800),
-    },
-    Directed {
-        name: "level_above",
-        text: include_str!("../rtl/mutate/scenes/level_above.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "green_minus_zero",
-        text: include_str!("../rtl/mutate/scenes/green_minus_zero.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "mirror_corridor",
-        text: include_str!("../rtl/mutate/scenes/mirror_corridor.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "mirror_corridor_lit",
-        text: include_str!("../rtl/mutate/scenes/mirror_corridor_lit.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "six_planes",
-        text: include_str!("../rtl/mutate/scenes/six_planes.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "grazing_overflow",
-        text: include_str!("../rtl/mutate/scenes/grazing_overflow.toml"),
-        window: None,
-        framed_as: None,
-    },
-    Directed {
-        name: "large_frame",
-        text: include_str!("../rtl/mutate/scenes/large_frame.toml"),
-        window: Some(Window::new(126, 2046, 4, 4)),
-        framed_as: None,
-    },
+    directed!("planes_z_first", None, None),
+    directed!("planes_x_last", None, None),
+    directed!("camera_roll", None, Some(800)),
+    directed!("camera_level", None, Some(800)),
+    directed!("shortcut_alone", None, Some(800)),
+    directed!("materials", None, Some(800)),
+    directed!("mirror_shallow", None, Some(800)),
+    directed!("weight_cutoff", None, Some(800)),
+    directed!("deep_mirrors", None, Some(800)),
+    directed!("level_above", None, None),
+    directed!("green_minus_zero", None, None),
+    directed!("mirror_corridor", None, None),
+    directed!("mirror_corridor_lit", None, None),
+    directed!("six_planes", None, None),
+    directed!("grazing_overflow", None, None),
+    directed!("large_frame", Some(Window::new(126, 2046, 4, 4)), None),
 ];
 
 /// The judge's directed-scene checks: every file of [`DIRECTED`] as

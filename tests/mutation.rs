@@ -249,18 +249,18 @@ fn mutate_without_the_netlist_says_how_to_build_it() {
     );
 }
 
-/// The campaign through the binary (cargo feature `mutation`): a few
-/// mutants judged whole and in two shards merged give the same verdicts.
+/// A campaign through the binary, judged whole (`judge` and `--out
+/// DIR/whole`) and in two shards merged (`DIR/merged`): asserts the whole
+/// run's header and that the merged verdicts are the whole run's; returns
+/// the whole run's stdout and its `mutation.json`.
 #[cfg(feature = "mutation")]
-#[test]
-fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
-    use common::{arg, both, rtcosim, scratch, text};
-    let dir = scratch("mutation", "campaign");
-    let judge = ["mutate", "--mutants", "1-6", "--size", "8x6", "--fuzz", "2"];
-    let verdicts = |json: &Path| -> Vec<(u64, String)> {
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(json).expect("mutation.json"))
-                .expect("JSON");
+fn whole_and_merged(dir: &Path, judge: &[&str]) -> (String, serde_json::Value) {
+    use common::{arg, both, rtcosim, text};
+    let json = |dir: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("mutation.json")).expect("json"))
+            .expect("JSON")
+    };
+    let verdicts = |v: &serde_json::Value| -> Vec<(u64, String)> {
         v["outcomes"]
             .as_array()
             .expect("outcomes")
@@ -278,20 +278,14 @@ fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
         "{}",
         both(&out)
     );
-    let got = verdicts(&whole.join("mutation.json"));
-    assert_eq!(
-        got.iter().map(|v| v.0).collect::<Vec<_>>(),
-        (1..=6).collect::<Vec<_>>()
-    );
-    assert!(got.iter().any(|v| v.1.contains("killed")), "{got:?}");
+    let got = json(&whole);
     // Exit 0 only when every mutant was killed or proved equivalent.
     assert_eq!(
         out.status.success(),
-        got.iter().all(|v| v.1.contains("killed")),
+        verdicts(&got).iter().all(|v| v.1.contains("killed")),
         "{}",
         both(&out)
     );
-
     let shards = dir.join("shards");
     for k in ["0/2", "1/2"] {
         let mut args = judge.to_vec();
@@ -302,8 +296,33 @@ fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
     let merged = dir.join("merged");
     let out = rtcosim(&["merge", arg(&shards), "--out", arg(&merged)]);
     assert!(merged.join("mutation-report.md").exists(), "{}", both(&out));
-    assert_eq!(verdicts(&merged.join("mutation.json")), got);
+    assert_eq!(verdicts(&json(&merged)), verdicts(&got), "{}", both(&out));
+    (stdout, got)
+}
 
+/// A campaign's `mutation.json`: its mutants' ids, and how many it killed.
+#[cfg(feature = "mutation")]
+fn killed_ids(json: &serde_json::Value) -> (Vec<u64>, usize) {
+    let outcomes = json["outcomes"].as_array().expect("outcomes");
+    let ids = outcomes
+        .iter()
+        .map(|o| o["id"].as_u64().expect("id"))
+        .collect();
+    let killed = outcomes.iter().filter(|o| o["verdict"] == "killed").count();
+    (ids, killed)
+}
+
+/// The campaign through the binary (cargo feature `mutation`): a few
+/// mutants judged whole and in two shards merged give the same verdicts.
+#[cfg(feature = "mutation")]
+#[test]
+fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
+    let dir = common::scratch("mutation", "campaign");
+    let judge = ["mutate", "--mutants", "1-6", "--size", "8x6", "--fuzz", "2"];
+    let (_, got) = whole_and_merged(&dir, &judge);
+    let (ids, killed) = killed_ids(&got);
+    assert_eq!(ids, (1..=6).collect::<Vec<_>>());
+    assert!(killed >= 1, "{got}");
     common::assert_refused(
         &["mutate", "--mutants", "60000"],
         &["there is no mutant 60000"],
@@ -317,8 +336,7 @@ fn mutate_judges_and_its_shards_merge_to_the_same_verdicts() {
 #[cfg(feature = "mutation")]
 #[test]
 fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
-    use common::{arg, both, rtcosim, scratch, text};
-    let dir = scratch("mutation", "fast");
+    let dir = common::scratch("mutation", "fast");
     let judge = [
         "mutate",
         "--processor",
@@ -330,64 +348,26 @@ fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
         "--fuzz",
         "1",
     ];
-    let whole = dir.join("whole");
-    let mut args = judge.to_vec();
-    args.extend(["--out", arg(&whole)]);
-    let out = rtcosim(&args);
-    let stdout = text(&out.stdout);
+    let (stdout, got) = whole_and_merged(&dir, &judge);
     assert!(
-        stdout.contains("rtl/mutate/fast_pp.mutants")
-            && stdout.contains("the netlist with no mutant selected passes the judge")
-            && stdout.contains("fast checks"),
-        "{}",
-        both(&out)
+        stdout.contains("rtl/mutate/fast_pp.mutants") && stdout.contains("fast checks"),
+        "{stdout}"
     );
-    let report = std::fs::read_to_string(whole.join("mutation-report.md")).expect("report");
-    assert!(
-        report.contains("| fast_") && !report.contains("| pp_ctrl"),
-        "{report}"
-    );
-    let json = |dir: &Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(dir.join("mutation.json")).expect("json"))
-            .expect("JSON")
-    };
-    let got = json(&whole)["outcomes"].clone();
-    let killed = got
-        .as_array()
-        .expect("outcomes")
-        .iter()
-        .filter(|o| o["verdict"] == "killed")
-        .count();
+    let (ids, killed) = killed_ids(&got);
+    assert_eq!(ids, (1..=4).collect::<Vec<_>>());
     assert!(killed >= 1, "{got}");
-    let shards = dir.join("shards");
-    for k in ["0/2", "1/2"] {
-        let mut args = judge.to_vec();
-        args.extend(["--shard", k, "--out", arg(&shards)]);
-        let out = rtcosim(&args);
-        assert!(text(&out.stdout).contains("wrote"), "{}", both(&out));
+    // The whole run and the merge read the fast processor's list and
+    // classification.
+    for report in [dir.join("whole"), dir.join("merged")]
+        .map(|d| std::fs::read_to_string(d.join("mutation-report.md")).expect("report"))
+    {
+        assert!(
+            report.contains("rtl/mutate/fast_pp.survivors")
+                && report.contains("| fast_")
+                && !report.contains("| pp_ctrl"),
+            "{report}"
+        );
     }
-    let merged = dir.join("merged");
-    let out = rtcosim(&["merge", arg(&shards), "--out", arg(&merged)]);
-    let verdicts = |v: &serde_json::Value| -> Vec<(u64, String)> {
-        v.as_array()
-            .expect("outcomes")
-            .iter()
-            .map(|o| (o["id"].as_u64().expect("id"), o["verdict"].to_string()))
-            .collect()
-    };
-    assert_eq!(
-        verdicts(&json(&merged)["outcomes"]),
-        verdicts(&got),
-        "{}",
-        both(&out)
-    );
-    let merged_report =
-        std::fs::read_to_string(merged.join("mutation-report.md")).expect("merged report");
-    // The merge read the fast processor's list and classification.
-    assert!(
-        merged_report.contains("rtl/mutate/fast_pp.survivors") && merged_report.contains("| fast_"),
-        "{merged_report}"
-    );
     common::assert_refused(
         &["mutate", "--processor", "fast", "--mutants", "1201"],
         &["there is no mutant 1201", "rtl/mutate/fast_pp.mutants"],
