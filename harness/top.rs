@@ -46,7 +46,7 @@ use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 use std::path::PathBuf;
 
 /// The fast processor's pixel contexts (`rtl/fast/fast_pp.v`, `CTX_BITS`
@@ -417,6 +417,8 @@ impl Top {
                 height: loaded.height,
             })
         };
+        // The pixels the frame feeds, each to come out once.
+        let mut fed = Fed::new(&source);
         match source {
             Source::Stream(pixels) => {
                 if let Some(e) = pixels.iter().find_map(|&p| outside(p)) {
@@ -459,7 +461,7 @@ impl Top {
                 .map_err(|e| model_error(None, e))?;
             stats.batches += 1;
             stats.events += self.events.len() as u64;
-            self.deliver(&mut stats, each)?;
+            self.deliver(&mut stats, &mut fed, each)?;
             match run.status {
                 ffi::TopStatus::Drained => {
                     stats.frame_cycles = run.frame_cycles;
@@ -545,6 +547,7 @@ impl Top {
     fn deliver(
         &mut self,
         stats: &mut FrameStats,
+        fed: &mut Fed,
         each: &mut dyn FnMut(TopPixel<'_>),
     ) -> Result<(), PpError> {
         let mut consumed = 0;
@@ -553,6 +556,17 @@ impl Top {
             demux(&mut self.pending, &self.events[consumed..upto]);
             consumed = upto;
             let (x, y) = (u32::from(r.x), u32::from(r.y));
+            // A result for a pixel the frame did not feed, or gave already,
+            // is the RTL's error (a fault, a mutant), not the harness's.
+            if !fed.take((x, y)) {
+                return Err(model_error(
+                    Some((x, y)),
+                    format!(
+                        "processor {} gave a result for pixel ({x}, {y}), which this frame did not feed or had already given",
+                        r.proc
+                    ),
+                ));
+            }
             let p = usize::from(r.proc);
             let (Some(pending), Some(given)) = (self.pending.get_mut(p), self.given.get_mut(p))
             else {
@@ -607,6 +621,57 @@ impl Top {
 }
 
 /// Appends each event to its processor's pixel, numbered on.
+/// The pixels a frame feeds, each to be given as often as it was fed: a
+/// window's once each, a stream's by count (a stream may repeat one).
+enum Fed {
+    Window { window: Window, given: Vec<bool> },
+    Stream(HashMap<(u32, u32), u32>),
+}
+
+impl Fed {
+    fn new(source: &Source<'_>) -> Fed {
+        match source {
+            Source::Stream(pixels) => {
+                let mut left = HashMap::new();
+                for &p in pixels.iter() {
+                    *left.entry(p).or_insert(0) += 1;
+                }
+                Fed::Stream(left)
+            }
+            Source::Raster(w) => Fed::Window {
+                window: *w,
+                given: vec![false; w.pixels() as usize],
+            },
+        }
+    }
+
+    /// Whether `(x, y)` was fed and is still owed; counts it given.
+    fn take(&mut self, (x, y): (u32, u32)) -> bool {
+        match self {
+            Fed::Window { window: w, given } => {
+                let inside = x >= w.x && y >= w.y && x - w.x < w.width && y - w.y < w.height;
+                let slot = inside
+                    .then(|| ((y - w.y) * w.width + (x - w.x)) as usize)
+                    .and_then(|i| given.get_mut(i));
+                match slot {
+                    Some(g) if !*g => {
+                        *g = true;
+                        true
+                    }
+                    _ => false,
+                }
+            }
+            Fed::Stream(left) => match left.get_mut(&(x, y)) {
+                Some(n) if *n > 0 => {
+                    *n -= 1;
+                    true
+                }
+                _ => false,
+            },
+        }
+    }
+}
+
 fn demux(pending: &mut [VecDeque<(u32, Vec<TraceEvent>)>], events: &[ffi::TopEvent]) {
     for e in events {
         if let Some(q) = pending.get_mut(usize::from(e.proc)) {
@@ -643,5 +708,27 @@ impl Drop for Top {
         if let Some(dir) = self.coverage.take() {
             crate::coverage::write_raw(&dir, |p| self.inner.pin_mut().write_coverage(p));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_owes_each_fed_pixel_as_often_as_it_was_fed() {
+        // A window: each of its pixels once; none outside it.
+        let mut fed = Fed::new(&Source::Raster(Window::new(2, 3, 2, 2)));
+        for p in [(2, 3), (3, 3), (2, 4), (3, 4)] {
+            assert!(fed.take(p), "{p:?} was fed");
+        }
+        for p in [(2, 3), (4, 3), (1, 3), (2, 5), (4096, 1024)] {
+            assert!(!fed.take(p), "{p:?} is not owed");
+        }
+        // A stream: by count, repeats included.
+        let pixels = [(5, 5), (1, 0), (5, 5)];
+        let mut fed = Fed::new(&Source::Stream(&pixels));
+        assert!(fed.take((5, 5)) && fed.take((1, 0)) && fed.take((5, 5)));
+        assert!(!fed.take((5, 5)) && !fed.take((1, 0)) && !fed.take((0, 1)));
     }
 }
