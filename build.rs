@@ -260,16 +260,33 @@ const MUT_PREFIX: &str = "Vpixel_processor_mut";
 /// `<SYNTH_PREFIX>_exact_exact`.
 const SYNTH_PREFIX: &str = "Vpixel_processor_synth";
 
-/// The float units `mutants.sh netlist` cuts from the mutated design, each
-/// verilated as `V<unit>_mut` (the exact methods, as in the processor), and
-/// the `FpModel` (harness/bridge.rs) each stands for.
-const MUT_UNITS: [(&str, &str); 6] = [
-    ("fp_add", "Add"),
-    ("fp_mul", "Mul"),
-    ("fp_itof", "Itof"),
-    ("fp_exp", "Exp"),
-    ("fp_recip", "RecipExact"),
-    ("fp_sqrt", "SqrtExact"),
+/// The float units `mutants.sh netlist` cuts from each processor's mutated
+/// design, each verilated as `V<unit>_mut` (the exact methods, as in the
+/// processor), and the `FpModel` (harness/bridge.rs) each stands for: per
+/// design (`MUTATE_DESIGN`), its units.
+const MUT_UNITS: [(&str, [(&str, &str); 6]); 2] = [
+    (
+        "pixel_processor",
+        [
+            ("fp_add", "Add"),
+            ("fp_mul", "Mul"),
+            ("fp_itof", "Itof"),
+            ("fp_exp", "Exp"),
+            ("fp_recip", "RecipExact"),
+            ("fp_sqrt", "SqrtExact"),
+        ],
+    ),
+    (
+        "fast_pp",
+        [
+            ("fast_fp_add", "FastAdd"),
+            ("fast_fp_mul", "FastMul"),
+            ("fast_fp_itof", "FastItof"),
+            ("fast_fp_exp", "FastExp"),
+            ("fast_fp_recip", "FastRecipExact"),
+            ("fast_fp_sqrt", "FastSqrtExact"),
+        ],
+    ),
 ];
 
 /// The controller's possible transitions (rtl/cover/transitions.sh), from
@@ -451,19 +468,24 @@ fn run() -> Result<(), String> {
         fast_cov_sources = relative(&fast_sources, &FAST_CTRL_COVER)?;
     }
     let mut pp_mut_sources = Vec::new();
-    // The float units cut from the same mutated design, each beside the
-    // processor's netlist (mutants.sh netlist writes them): (top, netlist).
+    // The float units cut from each mutated design, each beside its
+    // processor's netlist (mutants.sh netlist writes them): (top, FpModel,
+    // netlist).
     let mut fp_mut_sources = Vec::new();
     // The fast processor's mutant netlist (rtl/mutate/fast_pp.mutants).
     let mut fast_mut_sources = Vec::new();
     if mutation {
         flavours.push(Flavour::Mutant);
-        fast_mut_sources.push(write_mutant_netlist(&manifest, &out, "fast_pp")?);
-        let netlist = write_mutant_netlist(&manifest, &out, "pixel_processor")?;
-        for (top, model) in MUT_UNITS {
-            fp_mut_sources.push((top, model, vec![netlist.with_extension(format!("{top}.v"))]));
+        for (design, units) in MUT_UNITS {
+            let netlist = write_mutant_netlist(&manifest, &out, design)?;
+            for (top, model) in units {
+                fp_mut_sources.push((top, model, vec![netlist.with_extension(format!("{top}.v"))]));
+            }
+            match design {
+                "fast_pp" => fast_mut_sources.push(netlist),
+                _ => pp_mut_sources.push(netlist),
+            }
         }
-        pp_mut_sources.push(netlist);
     }
     let mut pp_synth_sources = Vec::new();
     if synth {

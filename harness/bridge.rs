@@ -167,10 +167,12 @@ pub(crate) mod ffi {
         /// Builds and resets a model. Fails if the model cannot be constructed.
         fn new_fp_unit(model: FpModel) -> Result<UniquePtr<FpUnit>>;
 
-        /// The unit cut from the mutant netlist (cargo feature `mutation`,
+        /// The unit cut from a mutant netlist (cargo feature `mutation`,
         /// exact methods), mutant `mutant` selected (0: the design as
-        /// written); fails if it was not built.
-        fn new_fp_unit_mut(model: FpModel, mutant: u16) -> Result<UniquePtr<FpUnit>>;
+        /// written); a pipelined one (the `Fast*` models, cut from the fast
+        /// processor's) read `latency` edges after each operation enters.
+        /// Fails if it was not built.
+        fn new_fp_unit_mut(model: FpModel, mutant: u16, latency: u32) -> Result<UniquePtr<FpUnit>>;
 
         /// A pipelined unit of `rtl/fast/` (the `Fast*` models): `eval` puts
         /// one operation in every cycle and reads each result `latency`

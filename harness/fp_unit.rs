@@ -246,11 +246,12 @@ impl FpUnit {
         Self::wrap(kind, ffi::new_fp_unit_pipelined(kind.model(), latency))
     }
 
-    /// The unit as cut from the mutant netlist (cargo feature `mutation`;
-    /// the exact methods only), with mutant `id` selected (0: the design as
-    /// written), for [`crate::mutation`].
+    /// The unit as cut from its processor's mutant netlist (cargo feature
+    /// `mutation`; the exact methods only), with mutant `id` selected (0:
+    /// the design as written), for [`crate::mutation`]; a pipelined one is
+    /// read at its [`UnitKind::latency`].
     pub fn new_mutant(kind: UnitKind, id: u16) -> Result<FpUnit, UnitError> {
-        Self::wrap(kind, ffi::new_fp_unit_mut(kind.model(), id))
+        Self::wrap(kind, ffi::new_fp_unit_mut(kind.model(), id, kind.latency()))
     }
 
     fn wrap(

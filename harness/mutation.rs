@@ -366,8 +366,9 @@ pub enum Stimulus {
     },
     /// Operands through one float unit cut from the mutant netlist, each
     /// result against golden's bits and each operation's cycles against
-    /// its latency ([`fp_check::check_batch`]). Only a mutant of a float
-    /// unit's module faces these ([`Mutant::in_float_unit`]).
+    /// its latency ([`fp_check::check_batch`]; a pipelined unit is read at
+    /// its latency). Only a mutant a float unit may carry faces these
+    /// ([`List::in_float_unit`]).
     Unit {
         kind: UnitKind,
         a: Vec<u32>,
@@ -375,24 +376,36 @@ pub enum Stimulus {
     },
 }
 
-/// The float units cut from the mutant netlist, in the judge's order
-/// (combinational first: the cheapest kills): every unit, with the exact
-/// methods the netlist has.
-pub fn units() -> impl Iterator<Item = UnitKind> {
-    UnitKind::ALL
+/// The float units cut from `processor`'s mutant netlist, in the judge's
+/// order (the cheapest kills first): every unit, with the exact methods the
+/// netlist has; the fast processor's are its pipelines.
+pub fn units(processor: ProcessorKind) -> impl Iterator<Item = UnitKind> {
+    let units = match processor {
+        ProcessorKind::Compact => UnitKind::ALL,
+        ProcessorKind::Fast => UnitKind::PIPELINED,
+    };
+    units
         .into_iter()
         .filter(|k| k.method().map_or(true, |m| m == Method::Exact))
 }
 
 impl List {
-    /// Whether mutant `id` faces the float-unit checks: a mutant of the
-    /// compact processor's float units (`rtl/fp/`, modules `fp_*`), which
-    /// the units cut from its netlist carry too; one the list does not
-    /// hold faces every check. The fast processor's units are cut with
-    /// other ports (pipelines): its mutants face the scenes only.
+    /// Whether mutant `id` faces the float-unit checks: a mutant of a
+    /// module the units cut from the netlist may carry: the compact
+    /// processor's float units (`rtl/fp/`, `fp_*`), or the fast one's
+    /// (`fast_fp_*`, the `fp_*` they share and the `fast_delay`s their
+    /// pipelines are built of, some of which are the controller's: a
+    /// mutant no unit carries passes their checks). One the list does not
+    /// hold faces every check.
     pub fn in_float_unit(&self, id: u16) -> bool {
-        self.files.processor == ProcessorKind::Compact
-            && self.get(id).map_or(true, |m| m.module.starts_with("fp_"))
+        self.get(id).map_or(true, |m| match self.files.processor {
+            ProcessorKind::Compact => m.module.starts_with("fp_"),
+            ProcessorKind::Fast => {
+                m.module.starts_with("fp_")
+                    || m.module.starts_with("fast_fp_")
+                    || m.module == "fast_delay"
+            }
+        })
     }
 }
 
@@ -473,9 +486,10 @@ pub struct JudgeSpec {
     pub timeout_cycles: u64,
 }
 
-/// The fixed list of checks every mutant faces, in order.
+/// The fixed list of checks every mutant of `processor` faces, in order.
 #[derive(Debug, Clone)]
 pub struct Judge {
+    pub processor: ProcessorKind,
     pub spec: JudgeSpec,
     pub checks: Vec<Check>,
 }
@@ -489,7 +503,10 @@ pub struct JudgeError {
 }
 
 impl Judge {
-    pub fn new(spec: JudgeSpec) -> Result<Judge, JudgeError> {
+    /// The judge of `processor`'s mutants: its float units, the scenes,
+    /// and (the compact processor's; the fast one's driver runs whole
+    /// frames) the resets mid-pixel.
+    pub fn new(processor: ProcessorKind, spec: JudgeSpec) -> Result<Judge, JudgeError> {
         let exact = |scene: &Scene, what: &str| {
             with_methods(scene, Method::Exact, Method::Exact, what).map_err(|e| JudgeError {
                 what: what.to_string(),
@@ -497,7 +514,7 @@ impl Judge {
             })
         };
         let mut checks = Vec::new();
-        for kind in units() {
+        for kind in units(processor) {
             let (a, b) = operands::edge_cases(kind);
             checks.push(Check {
                 name: format!("{} edge cases", kind.module()),
@@ -544,7 +561,7 @@ impl Judge {
                 })?;
             let scene = exact(&scene, &what)?;
             let window = Window::full(&scene);
-            if *name == "reference" {
+            if *name == "reference" && processor == ProcessorKind::Compact {
                 // Its middle pixel, cut short at every cycle of its start
                 // (judged after the fuzz scenes).
                 let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
@@ -607,7 +624,11 @@ impl Judge {
             scene_check(what, scene, window);
         }
         checks.extend(resets);
-        Ok(Judge { spec, checks })
+        Ok(Judge {
+            processor,
+            spec,
+            checks,
+        })
     }
 
     /// The scene checks (without the resets mid-pixel).
@@ -618,25 +639,15 @@ impl Judge {
             .count()
     }
 
-    /// The checks a mutant of `processor` faces if it survives (the unit
-    /// checks only for a mutant of the compact processor's float units).
-    pub fn checks_for(&self, processor: ProcessorKind) -> usize {
-        match processor {
-            ProcessorKind::Compact => self.checks.len(),
-            ProcessorKind::Fast => self.scenes(),
-        }
-    }
-
-    /// The pixels one mutant of `processor` faces if it survives.
-    pub fn pixels(&self, processor: ProcessorKind) -> u64 {
+    /// The pixels one mutant faces if it survives.
+    pub fn pixels(&self) -> u64 {
         self.checks
             .iter()
             .map(|c| match &c.stimulus {
                 Stimulus::Scene { window, .. } => window.pixels(),
-                Stimulus::ResetMidPixel { window, cuts, .. } => match processor {
-                    ProcessorKind::Compact => window.pixels() * cuts.clone().count() as u64,
-                    ProcessorKind::Fast => 0,
-                },
+                Stimulus::ResetMidPixel { window, cuts, .. } => {
+                    window.pixels() * cuts.clone().count() as u64
+                }
                 Stimulus::Unit { .. } => 0,
             })
             .sum()
@@ -711,16 +722,10 @@ enum Model {
     Fast(Top),
 }
 
-/// Judges mutant `id` of `processor`'s list (0: the design as written) on
-/// fresh models: the float-unit checks if `in_float_unit` (see
-/// [`List::in_float_unit`]; the compact processor's only), then the scenes
-/// on the processor.
-pub fn judge(
-    processor: ProcessorKind,
-    id: u16,
-    in_float_unit: bool,
-    judge: &Judge,
-) -> Result<Outcome, PpError> {
+/// Judges mutant `id` of the judge's processor's list (0: the design as
+/// written) on fresh models: the float-unit checks if `in_float_unit` (see
+/// [`List::in_float_unit`]), then the scenes on the processor.
+pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpError> {
     let start = Instant::now();
     let mut pixels = 0;
     let outcome = |verdict, pixels| Outcome {
@@ -729,7 +734,6 @@ pub fn judge(
         pixels,
         seconds: start.elapsed().as_secs_f64(),
     };
-    let in_float_unit = in_float_unit && processor == ProcessorKind::Compact;
     for check in judge.checks.iter().filter(|_| in_float_unit) {
         let Stimulus::Unit { kind, a, b } = &check.stimulus else {
             continue;
@@ -745,7 +749,7 @@ pub fn judge(
     };
     // The fast processor resets as each scene loads: a mutant that fails
     // its reset is killed by the first scene.
-    let mut model = match processor {
+    let mut model = match judge.processor {
         ProcessorKind::Compact => {
             let mut rtl = PixelProcessor::new_mutant(id)?;
             if let Err(e) = rtl.reset() {
@@ -853,18 +857,21 @@ fn cut_short(
 }
 
 /// Judges `ids` of `list` in parallel on the current rayon pool; results
-/// in the order of `ids`. `progress` is called once per mutant.
+/// in the order of `ids`. `done` is called with each outcome as it is
+/// known (a journal, a progress bar). The list and the judge are one
+/// processor's.
 pub fn run(
     ids: &[u16],
     list: &List,
     judge_: &Judge,
-    progress: &(dyn Fn(u64) + Sync),
+    done: &(dyn Fn(&Outcome) + Sync),
 ) -> Result<Vec<Outcome>, PpError> {
+    debug_assert_eq!(list.files.processor, judge_.processor);
     ids.par_iter()
         .map(|&id| {
-            let o = judge(list.files.processor, id, list.in_float_unit(id), judge_);
-            progress(1);
-            o
+            let o = judge(id, list.in_float_unit(id), judge_)?;
+            done(&o);
+            Ok(o)
         })
         .collect()
 }
@@ -1268,17 +1275,21 @@ mod tests {
                     "{processor}: no mutant of {m}: {modules:?}"
                 );
             }
-            // Only the compact processor's float units are cut with the
-            // ports the unit checks drive.
-            let fp = list
-                .mutants
-                .iter()
-                .find(|m| m.module.contains("fp_"))
-                .unwrap();
-            assert_eq!(
-                list.in_float_unit(fp.id),
-                processor == ProcessorKind::Compact
-            );
+            // A float unit's mutant faces the unit checks, the
+            // controller's does not.
+            let of = |module: &str| {
+                list.mutants
+                    .iter()
+                    .find(|m| m.module.ends_with(module))
+                    .unwrap()
+                    .id
+            };
+            let (unit, ctrl) = match processor {
+                ProcessorKind::Compact => (of("fp_add"), of("pp_ctrl")),
+                ProcessorKind::Fast => (of("fp_add"), of("fast_ctrl")),
+            };
+            assert!(list.in_float_unit(unit));
+            assert!(!list.in_float_unit(ctrl));
         }
     }
 

@@ -356,6 +356,14 @@ fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
     let (ids, killed) = killed_ids(&got);
     assert_eq!(ids, (1..=4).collect::<Vec<_>>());
     assert!(killed >= 1, "{got}");
+    // Mutant 4 (fast_fp_mul.v:90, a product bit forced to 1) dies in the
+    // unit stage: the pipelined multiplier cut from the same netlist.
+    let four = &got["outcomes"][3];
+    assert_eq!(four["check"], "fast_fp_mul edge cases", "{four}");
+    assert!(
+        !dir.join("whole").join("mutate.journal.jsonl").exists(),
+        "the journal is removed once the results are written"
+    );
     // The whole run and the merge read the fast processor's list and
     // classification.
     for report in [dir.join("whole"), dir.join("merged")]
@@ -371,6 +379,84 @@ fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
     common::assert_refused(
         &["mutate", "--processor", "fast", "--mutants", "1201"],
         &["there is no mutant 1201", "rtl/mutate/fast_pp.mutants"],
+    );
+}
+
+/// A campaign with --out journals each verdict and, run again after a
+/// kill, resumes from the journal (cargo feature `mutation`): a verdict
+/// planted in the journal of the same campaign is taken as judged, not
+/// judged again; a journal of another campaign is refused.
+#[cfg(feature = "mutation")]
+#[test]
+fn a_killed_campaign_resumes_from_its_journal() {
+    use common::{arg, both, rtcosim, text};
+    use rtcosim::mutation::{Campaign, JudgeSpec, List, Outcome, Verdict};
+    use rtcosim::processor::ProcessorKind;
+    use rtcosim::shard::file::run_config;
+    use rtcosim::shard::journal::Journal;
+    let dir = common::scratch("mutation", "resume");
+    let list = List::committed(ProcessorKind::Compact).expect("the list");
+    // The campaign `mutate --mutants 1-2 --size 8x6 --fuzz 0` runs (its
+    // defaults as tools/mutate.rs has them).
+    let campaign = |fuzz_count| Campaign {
+        processor: ProcessorKind::Compact,
+        judge: JudgeSpec {
+            width: 8,
+            height: 6,
+            fuzz_seed: 1,
+            fuzz_count,
+            unit_operands: 10_000,
+            timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
+        },
+        mutants: vec![1, 2],
+        rtl_hash: list.rtl_hash.clone(),
+        verilator: rtcosim::VERILATOR_VERSION.into(),
+    };
+    let (journal, resumed) =
+        Journal::open::<Outcome>(&dir, "mutate", &run_config(&campaign(0)), None).expect("journal");
+    assert!(!resumed.found);
+    journal.record(&Outcome {
+        id: 2,
+        verdict: Verdict::Killed {
+            check: "planted by the test".into(),
+            how: "never judged".into(),
+        },
+        pixels: 0,
+        seconds: 0.0,
+    });
+    drop(journal);
+    let args = [
+        "mutate",
+        "--mutants",
+        "1-2",
+        "--size",
+        "8x6",
+        "--fuzz",
+        "0",
+        "--out",
+        arg(&dir),
+    ];
+    let out = rtcosim(&args);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("resuming: 1 of the 2 mutants judged before")
+            && stdout.contains("planted by the test: 1")
+            && stdout.contains("mutants: 2 judged"),
+        "{}",
+        both(&out)
+    );
+    assert!(!dir.join("mutate.journal.jsonl").exists());
+    // Another campaign's journal in the directory: refused by name.
+    let (journal, _) =
+        Journal::open::<Outcome>(&dir, "mutate", &run_config(&campaign(3)), None).expect("journal");
+    drop(journal);
+    common::assert_refused(
+        &args,
+        &[
+            "mutate.journal.jsonl",
+            "the journal of another run",
+            "delete it",
+        ],
     );
 }
 
@@ -414,7 +500,7 @@ fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
         unit_operands: 0,
         timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
     };
-    let full = Judge::new(spec).expect("the judge");
+    let full = Judge::new(ProcessorKind::Compact, spec).expect("the judge");
     let resets = |j: &Judge| {
         j.checks
             .iter()
@@ -426,11 +512,7 @@ fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
     scenes_only
         .checks
         .retain(|c| !matches!(c.stimulus, Stimulus::ResetMidPixel { .. }));
-    let verdict = |id, j: &Judge| {
-        judge(ProcessorKind::Compact, id, false, j)
-            .expect("judged")
-            .verdict
-    };
+    let verdict = |id, j: &Judge| judge(id, false, j).expect("judged").verdict;
     assert_eq!(
         verdict(0, &full),
         Verdict::Survived,
@@ -450,11 +532,18 @@ fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
 fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
     use golden::fp::Method;
     use rtcosim::fp_unit::{FpUnit, UnitKind};
-    let err = FpUnit::new_mutant(UnitKind::Recip(Method::Fast), 1)
-        .err()
-        .expect("fp_recip(fast) is not in the mutant netlist");
-    assert!(err.to_string().contains("exact methods only"), "{err}");
-    for kind in rtcosim::mutation::units() {
+    use rtcosim::processor::ProcessorKind;
+    for kind in [
+        UnitKind::Recip(Method::Fast),
+        UnitKind::FastSqrt(Method::Fast),
+    ] {
+        let err = FpUnit::new_mutant(kind, 1)
+            .err()
+            .unwrap_or_else(|| panic!("{kind} is not in a mutant netlist"));
+        assert!(err.to_string().contains("exact methods only"), "{err}");
+    }
+    let processors = [ProcessorKind::Compact, ProcessorKind::Fast];
+    for kind in processors.into_iter().flat_map(rtcosim::mutation::units) {
         let mut unit = FpUnit::new_mutant(kind, 0).expect("a unit of the netlist");
         let (a, b) = (vec![0x3F80_0000u32], vec![0x4000_0000u32]);
         let (y, _) = unit

@@ -4,11 +4,13 @@
 use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
-use rtcosim::mutation::{self, Campaign, Judge, JudgeSpec, List, Summary};
+use rtcosim::mutation::{self, Campaign, Judge, JudgeSpec, List, Outcome, Summary};
 use rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES;
 use rtcosim::processor::ProcessorKind;
 use rtcosim::shard::file::{self as shard_file, ShardFile};
+use rtcosim::shard::journal::Journal;
 use rtcosim::shard::Shard;
+use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -34,8 +36,7 @@ pub struct MutateArgs {
     #[arg(long, value_name = "SEED", default_value_t = 1)]
     pub fuzz_seed: u64,
     /// Seeded random operands (seed: --fuzz-seed) through each float unit,
-    /// after its edge cases, for a mutant of a float unit (the compact
-    /// processor's).
+    /// after its edge cases, for a mutant a float unit may carry.
     #[arg(long, value_name = "N", default_value_t = 10_000)]
     pub unit_operands: u64,
     /// Cycles a pixel may take before the mutant counts as hung (killed).
@@ -50,7 +51,9 @@ pub struct MutateArgs {
     #[command(flatten)]
     pub shard: ShardArgs,
     /// Write mutation-report.md and mutation.json into DIR (a shard: its
-    /// mutate-K-of-N.shard.json, for `rtcosim merge`).
+    /// mutate-K-of-N.shard.json, for `rtcosim merge`). Each verdict is
+    /// journaled there as it comes (mutate[-K-of-N].journal.jsonl, removed
+    /// at the end): run the same command again after a kill and it resumes.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -126,7 +129,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         unit_operands: args.unit_operands,
         timeout_cycles: args.timeout_cycles,
     };
-    let judge = Judge::new(spec)?;
+    let judge = Judge::new(args.processor, spec)?;
     let campaign = Campaign {
         processor: args.processor,
         judge: spec,
@@ -135,6 +138,25 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     let ids = campaign.ids(shard.unwrap_or(Shard::WHOLE));
+    // With --out, each verdict is journaled as it comes: a campaign killed
+    // part way resumes where it stopped (a journal of another campaign is
+    // refused before anything runs).
+    let config = shard_file::run_config(&campaign);
+    let (journal, mut outcomes, resumed_found) = match &args.out {
+        Some(dir) => {
+            let (journal, resumed) = Journal::open::<Outcome>(dir, mutation::TOOL, &config, shard)?;
+            let wanted: BTreeSet<u16> = ids.iter().copied().collect();
+            let mut earlier: Vec<Outcome> = resumed
+                .items
+                .into_iter()
+                .filter(|o| wanted.contains(&o.id))
+                .collect();
+            earlier.sort_by_key(|o| o.id);
+            earlier.dedup_by_key(|o| o.id);
+            (Some(journal), earlier, resumed.found)
+        }
+        None => (None, Vec::new(), false),
+    };
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
     let mut out = std::io::stdout().lock();
@@ -150,17 +172,20 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
-    let units = match args.processor {
+    let resets = match args.processor {
         ProcessorKind::Compact => format!(
-            "for a mutant of a float unit, its edge cases and {} random operands through each of the {} units \
-             ({} operands); the reference's middle pixel reset after each of its first {} cycles; ",
-            spec.unit_operands,
-            mutation::units().count(),
-            judge.unit_operands(),
+            "the reference's middle pixel reset after each of its first {} cycles; ",
             mutation::RESET_CUTS
         ),
         ProcessorKind::Fast => String::new(),
     };
+    let units = format!(
+        "for a mutant a float unit may carry, its edge cases and {} random operands through each of the {} units \
+         ({} operands); {resets}",
+        spec.unit_operands,
+        mutation::units(args.processor).count(),
+        judge.unit_operands(),
+    );
     writeln!(
         out,
         "judge: {units}every builtin scene at {}x{}, the {} directed scenes of rtl/mutate/scenes/, and the {} of {} \
@@ -171,15 +196,15 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         judge.scenes() - golden::scene::Scene::builtin_names().len() - mutation::directed_checks(),
         spec.fuzz_count,
         spec.fuzz_seed,
-        judge.checks_for(args.processor),
+        judge.checks.len(),
         args.processor,
-        judge.pixels(args.processor)
+        judge.pixels()
     )?;
     out.flush()?;
     // The netlist with no mutant selected must pass, or nothing below means
     // anything.
     let start = Instant::now();
-    let baseline = mutation::judge(args.processor, 0, true, &judge)?;
+    let baseline = mutation::judge(0, true, &judge)?;
     if let mutation::Verdict::Killed { check, how } = &baseline.verdict {
         anyhow::bail!(
             "the netlist with no mutant selected (mutsel = 0) fails the judge at {check}: {how}"
@@ -192,16 +217,40 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     )?;
     writeln!(out)?;
     out.flush()?;
+    if let Some(journal) = &journal {
+        if resumed_found {
+            writeln!(
+                out,
+                "resuming: {} of the {} mutants judged before, as {} recorded",
+                outcomes.len(),
+                ids.len(),
+                journal.path().display()
+            )?;
+        }
+    }
+    let judged: BTreeSet<u16> = outcomes.iter().map(|o| o.id).collect();
+    let todo: Vec<u16> = ids
+        .iter()
+        .copied()
+        .filter(|id| !judged.contains(id))
+        .collect();
     let bar = progress_bar(
-        ids.len() as u64,
+        todo.len() as u64,
         "judging",
         "{pos}/{len} mutants ({per_sec}, {eta})",
     )?;
-    let outcomes = pool.install(|| mutation::run(&ids, &list, &judge, &|n| bar.inc(n)))?;
+    let done = |o: &Outcome| {
+        if let Some(j) = &journal {
+            j.record(o);
+        }
+        bar.inc(1);
+    };
+    outcomes.extend(pool.install(|| mutation::run(&todo, &list, &judge, &done))?);
     bar.finish_and_clear();
+    outcomes.sort_by_key(|o| o.id);
     let mut summary = Summary {
-        checks: judge.checks_for(args.processor) as u64,
-        judge_pixels: judge.pixels(args.processor),
+        checks: judge.checks.len() as u64,
+        judge_pixels: judge.pixels(),
         outcomes,
         equivalence: Default::default(),
     };
@@ -222,7 +271,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
             write!(out, "{}", summary.report(&list))?;
             let file = ShardFile::new(
                 mutation::TOOL,
-                shard_file::run_config(&campaign),
+                config,
                 shard,
                 campaign.mutants.len() as u64,
                 &summary,
@@ -230,6 +279,15 @@ pub fn run(args: MutateArgs) -> Result<bool> {
             writeln!(out, "wrote {}", file.write(dir)?.display())?;
         }
         _ => finish(&mut out, &summary, &list, args.out.as_deref())?,
+    }
+    if let Some(journal) = journal {
+        let path = journal.path().to_path_buf();
+        journal.finish().with_context(|| {
+            format!(
+                "the results are written, but the journal {} lost a verdict",
+                path.display()
+            )
+        })?;
     }
     writeln!(
         out,

@@ -139,12 +139,13 @@ private:
 // A pipelined unit: operands a[i], b[i] enter before edge i + 1 (one every
 // cycle, no gaps), and y after edge i + latency is result i. The pipeline is
 // flushed with zeros after the last operand.
-template <class M, bool Binary>
+template <class M, bool Binary, bool Mut = false>
 class PipeUnit final : public FpUnit {
 public:
-    PipeUnit(const char* name, std::uint32_t latency) : name_(name), latency_(latency) {
+    PipeUnit(const char* name, std::uint32_t latency, std::uint16_t mutant = 0) : name_(name), latency_(latency) {
         if (latency == 0) throw std::invalid_argument(std::string(name) + ": a pipelined unit has latency >= 1");
         M& m = *owned_.model;
+        if constexpr (Mut) m.mutsel = mutant;
         m.clk = 0;
         m.a = 0;
         if constexpr (Binary) m.b = 0;
@@ -176,20 +177,27 @@ private:
     Owned<M> owned_;
 };
 
-// Whether a model has a clock (a multi-cycle unit) or a `b` operand.
+// Whether a model has a clock (a multi-cycle or pipelined unit), a
+// handshake (multi-cycle) or a `b` operand.
 template <class M, class = void>
 struct IsClocked : std::false_type {};
 template <class M>
 struct IsClocked<M, std::void_t<decltype(std::declval<M&>().clk)>> : std::true_type {};
+template <class M, class = void>
+struct HasHandshake : std::false_type {};
+template <class M>
+struct HasHandshake<M, std::void_t<decltype(std::declval<M&>().in_valid)>> : std::true_type {};
 template <class M, class = void>
 struct IsBinary : std::false_type {};
 template <class M>
 struct IsBinary<M, std::void_t<decltype(std::declval<M&>().b)>> : std::true_type {};
 
 template <class M>
-std::unique_ptr<FpUnit> mutant_unit(const char* name, std::uint16_t mutant) {
-    if constexpr (IsClocked<M>::value) {
+std::unique_ptr<FpUnit> mutant_unit(const char* name, std::uint16_t mutant, std::uint32_t latency) {
+    if constexpr (HasHandshake<M>::value) {
         return std::make_unique<SeqUnit<M, true>>(name, mutant);
+    } else if constexpr (IsClocked<M>::value) {
+        return std::make_unique<PipeUnit<M, IsBinary<M>::value, true>>(name, latency, mutant);
     } else {
         return std::make_unique<CombUnit<M, IsBinary<M>::value, true>>(name, mutant);
     }
@@ -197,9 +205,10 @@ std::unique_ptr<FpUnit> mutant_unit(const char* name, std::uint16_t mutant) {
 
 }  // namespace
 
-std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, [[maybe_unused]] std::uint16_t mutant) {
+std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, [[maybe_unused]] std::uint16_t mutant,
+                                        [[maybe_unused]] std::uint32_t latency) {
 #define RTCOSIM_FP_CASE(cls, kind) \
-    if (model == FpModel::kind) return mutant_unit<cls>(#cls, mutant);
+    if (model == FpModel::kind) return mutant_unit<cls>(#cls, mutant, latency);
     RTCOSIM_FP_MUT_MODELS(RTCOSIM_FP_CASE)
 #undef RTCOSIM_FP_CASE
     throw std::invalid_argument(

@@ -20,9 +20,11 @@ public:
 
 std::unique_ptr<FpUnit> new_fp_unit(FpModel model);
 
-// The unit cut from the mutant netlist (cargo feature `mutation`; exact
-// methods) with mutant `mutant` selected (0: the design as written).
-std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, std::uint16_t mutant);
+// The unit cut from a mutant netlist (cargo feature `mutation`; exact
+// methods) with mutant `mutant` selected (0: the design as written): a
+// compact processor's unit, or a fast processor's pipelined one read
+// `latency` clock edges after each operation enters.
+std::unique_ptr<FpUnit> new_fp_unit_mut(FpModel model, std::uint16_t mutant, std::uint32_t latency);
 
 // A pipelined unit of rtl/fast/ (the Fast* models), read `latency` clock
 // edges after each operation enters.

@@ -20,8 +20,11 @@
 //!   and the length, never on thread counts or timing.
 //! - [`file`]: the shard result file each shard writes, and the checks
 //!   that a set of them is one whole run (`rtcosim merge`).
+//! - [`journal`]: each item's result on disk as soon as it is known, so
+//!   that a run killed part way resumes where it stopped.
 
 pub mod file;
+pub mod journal;
 
 use std::fmt;
 use std::str::FromStr;
