@@ -12,6 +12,17 @@
 //!     ... -- 42 58                     # fp_exp: one operand per x_q it can hold
 //!     ... -- --fields 0,64 890         # every operand of those exponent fields
 //!     ... -- --below 128 42            # fp_exp: every |a| < 128 (2^31 operands: slow)
+//!     ... -- --processor fast 1049     # the fast processor's list: its pipelined units
+//!     ... -- --processor fast --unit fast_fp_recip 77  # a shared module's mutant, in that unit
+//!
+//! The fast processor's units (`fast_fp_recip`, `fast_fp_sqrt`,
+//! `fast_fp_exp`, cut from its netlist and driven one operation a cycle)
+//! are their compact units' datapaths step for step with registers between
+//! (each header says so), and take the same classes: fast_fp_exp's first
+//! stage registers (sign, M', j) with X = M' * 2^(15 - j) = fp_exp's x_q,
+//! and the special flags, which the sweep covers. A mutant of a module the
+//! units share (fast_fp_unpack, fast_fp_round, fp_lzc, a fast_delay) is
+//! run through the unit `--unit` names.
 //!
 //! The classes (the argument is in docs/mutation.md):
 //! - fp_recip: the 2^23 fractions at biased exponent 127 (every normal
@@ -71,7 +82,7 @@ fn sweep_fractions() -> Vec<u32> {
 /// The operand classes of `kind`, each a list of contiguous bit-pattern
 /// ranges (an exponent field's 2^23 fractions), smallest first.
 fn exhaustive_exponents(kind: UnitKind) -> &'static [u32] {
-    match kind {
+    match kind.arithmetic() {
         UnitKind::Recip(_) => &[127, 253, 254],
         UnitKind::Sqrt(_) => &[127, 128],
         _ => &[],
@@ -173,7 +184,7 @@ fn judge(kind: UnitKind, id: u16, all: bool, classes: &Classes) -> Result<Found>
                 })
             })
             .collect(),
-        Classes::Unit if matches!(kind, UnitKind::Exp) => exp_x_classes(),
+        Classes::Unit if kind.arithmetic() == UnitKind::Exp => exp_x_classes(),
         Classes::Unit => exhaustive_exponents(kind)
             .iter()
             .map(|&e| (u64::from(e) << 23, u64::from(e + 1) << 23, 1))
@@ -206,8 +217,17 @@ fn judge(kind: UnitKind, id: u16, all: bool, classes: &Classes) -> Result<Found>
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let (mut threads, mut all, mut classes, mut ids) = (1usize, false, Classes::Unit, Vec::new());
+    let (mut processor, mut unit) = (ProcessorKind::Compact, None);
     while let Some(arg) = args.next() {
         match arg.as_str() {
+            "--processor" => {
+                processor = match args.next().as_deref() {
+                    Some("compact") => ProcessorKind::Compact,
+                    Some("fast") => ProcessorKind::Fast,
+                    other => bail!("--processor compact|fast, got {other:?}"),
+                };
+            }
+            "--unit" => unit = Some(args.next().context("--unit NAME")?),
             "--threads" => {
                 threads = args
                     .next()
@@ -253,20 +273,37 @@ fn main() -> Result<()> {
     }
     if ids.is_empty() {
         bail!(
-            "usage: mutant_exhaustive [--threads N] [--all] [--below X | --fields LO-HI,...] ID..."
+            "usage: mutant_exhaustive [--processor compact|fast] [--unit NAME] [--threads N] [--all] \
+             [--below X | --fields LO-HI,...] ID..."
         );
     }
-    let list = List::committed(ProcessorKind::Compact)?;
+    let list = List::committed(processor)?;
+    // The units this tool takes: the unary ones with classes.
+    let units: [UnitKind; 3] = match processor {
+        ProcessorKind::Compact => [
+            UnitKind::Recip(Method::Exact),
+            UnitKind::Sqrt(Method::Exact),
+            UnitKind::Exp,
+        ],
+        ProcessorKind::Fast => [
+            UnitKind::FastRecip(Method::Exact),
+            UnitKind::FastSqrt(Method::Exact),
+            UnitKind::FastExp,
+        ],
+    };
+    let named = |module: &str| units.into_iter().find(|k| k.module() == module);
+    let forced = match &unit {
+        None => None,
+        Some(name) => Some(named(name).with_context(|| {
+            let names: Vec<&str> = units.iter().map(|k| k.module()).collect();
+            format!("--unit {name}: this tool takes {}", names.join(", "))
+        })?),
+    };
     let mut jobs = Vec::new();
     for &id in &ids {
         if id == 0 {
             // The design as written: golden's own check, on all three units.
-            let kinds: &[UnitKind] = &[
-                UnitKind::Recip(Method::Exact),
-                UnitKind::Sqrt(Method::Exact),
-                UnitKind::Exp,
-            ];
-            for &kind in kinds {
+            for kind in units {
                 jobs.push((0, kind, "the design".to_string()));
             }
             continue;
@@ -274,13 +311,13 @@ fn main() -> Result<()> {
         let m = list
             .get(id)
             .with_context(|| format!("mutant {id} is not in the list"))?;
-        let kind = match m.module.as_str() {
-            "fp_recip" => UnitKind::Recip(Method::Exact),
-            "fp_sqrt" => UnitKind::Sqrt(Method::Exact),
-            "fp_exp" => UnitKind::Exp,
-            other => {
-                bail!("mutant {id} is in {other}: this tool takes fp_recip, fp_sqrt and fp_exp")
-            }
+        let Some(kind) = forced.or_else(|| named(&m.module)) else {
+            let names: Vec<&str> = units.iter().map(|k| k.module()).collect();
+            bail!(
+                "mutant {id} is in {}: this tool takes {} (or --unit NAME for a module they share)",
+                m.module,
+                names.join(", ")
+            )
         };
         jobs.push((id, kind, m.location.clone()));
     }

@@ -39,7 +39,8 @@
 #       for fp_add, fp_mul and fp_itof, and for fp_recip, fp_sqrt and fp_exp
 #       temporal induction from the all-zero state (the reset state; the
 #       datapath registers are loaded before they are read) up to
-#       MUTATE_MITER_STEPS (12) steps. A mutant of a flip-flop's clock gets
+#       MUTATE_MITER_STEPS (12; 26 for the fast units, all pipelines) steps.
+#       A mutant of a flip-flop's clock gets
 #       clk2fflogic and a clock that toggles every step. Prints one line per
 #       mutant, "ID VERDICT UNIT: DETAIL; UNIT: DETAIL ...": VERDICT over its
 #       units is equivalent (DETAIL "cone": the change reaches no output, or
@@ -60,8 +61,8 @@
 #       with the exponential) instead of the compact one (pixel_processor,
 #       the default): its sources add rtl/fast, its list is
 #       rtl/mutate/fast_pp.mutants, its float units cut beside the netlist
-#       are fast_fp_add ... fast_fp_exp. `miter` knows the compact units
-#       only and refuses it.
+#       are fast_fp_add ... fast_fp_exp, and `miter` proves on those
+#       (induction to 26 steps, past their deepest pipeline).
 #
 #   MUTATE_BLACKBOX="fp_recip fp_sqrt"  (list) makes those modules black boxes (their
 #       ports and parameters only; their RTL is compiled beside the netlist,
@@ -369,9 +370,9 @@ equiv)
     ;;
 miter)
     [ $# -ge 1 ] || usage
-    [ "$top" = pixel_processor ] || die "miter knows the compact processor's float units only (MUTATE_DESIGN=$top)"
     limit=${MUTATE_MITER_SECONDS:-300}
-    steps=${MUTATE_MITER_STEPS:-12}
+    # Induction must outrun a pipeline: the fast units' longest is 22 deep.
+    case $top in fast_pp) steps=${MUTATE_MITER_STEPS:-26} ;; *) steps=${MUTATE_MITER_STEPS:-12} ;; esac
     [[ $limit =~ ^[1-9][0-9]*$ ]] || die "MUTATE_MITER_SECONDS '$limit' is not a number of seconds"
     [[ $steps =~ ^[1-9][0-9]*$ ]] || die "MUTATE_MITER_STEPS '$steps' is not a number of steps"
     il=$(design)
@@ -384,11 +385,12 @@ miter)
     fi
     # The float units cut from the mutated design, as the judge gets them.
     "$0" netlist "$tmp/n.v" "$@" >/dev/null
-    # Which float units (the judge's: fp_add ... fp_exp) hold each module,
-    # as themselves or through their submodules (fp_round, fp_lzc, ...).
+    # Which float units (the judge's: fp_add ... fp_exp, or the fast
+    # processor's fast_fp_add ... fast_fp_exp) hold each module, as
+    # themselves or through their submodules (fp_round, fp_lzc, ...).
     python3 - "$il" > "$tmp/units" <<'PY'
-import re, sys
-units = ("fp_add", "fp_mul", "fp_itof", "fp_exp", "fp_recip", "fp_sqrt")
+import os, re, sys
+units = tuple(os.environ["MUTATE_UNITS"].split())
 children, cur = {}, None
 for line in open(sys.argv[1]):
     m = re.match(r"module (\S+)", line)
@@ -412,7 +414,10 @@ PY
     # "not-proved DETAIL" or "timeout".
     miter_unit() {
         local id=$1 unit=$2 clk=$3 status=0 seq=0 log=$tmp/log.$1.$2
-        case $unit in fp_recip | fp_sqrt | fp_exp) seq=1 ;; esac
+        # The multi-cycle units and the pipelines hold state: induction.
+        case $unit in fp_recip | fp_sqrt | fp_exp | fast_fp_*) seq=1 ;; esac
+        # The toggled clock below is wired to the multi-cycle units' ports.
+        case $unit:$clk in fast_fp_*:1) echo "not-proved $unit: a mutant of a pipeline's clock (the miter drives the multi-cycle units' clock only)"; return ;; esac
         # The unit as the judge gets it, its ROM as logic, and every flip-flop
         # outside the forward cone of mutsel marked: those compute the same
         # function of the same inputs in both copies, so they are shared.
@@ -447,7 +452,7 @@ for line in open(sys.argv[1]):
     elif cell and s.startswith("connect \\Q "):
         sig = s[len("connect \\Q "):]
         for name, hi, lo in re.findall(r"\\(\S+)(?: \[(\d+)(?::(\d+))?\])?", sig):
-            rng = f" [{hi}:{lo or hi}]" if hi else ""
+            rng = f"[{hi}:{lo or hi}]" if hi else ""
             out.append(f"connect -set gate.{name}{rng} gold.{name}{rng}")
     elif s == "end":
         cell = None
@@ -535,6 +540,8 @@ for line in open(sys.argv[1]):
     m = re.match(r"\s+(\d+|\S*)\s+\\(in|gold|gate)_(\S+)\s+\S+\s+([0-9a-fA-Fx]+)\s+[01x]+\s*$", line)
     if m:
         t = m.group(1) or "0"
+        if not t.isdigit():
+            continue  # the initial state's row ("init"): zero
         if m.group(2) == "in":
             rows.setdefault(t, {})[m.group(3)] = m.group(4)
         else:
@@ -550,11 +557,18 @@ else:
     bad = next((t for t in sorted(outs, key=int)
                 if any(outs[t].get("gold_" + k) != outs[t].get("gate_" + k) for k in ("y", "out_valid"))), None)
     o = outs.get(bad, {})
-    where = ("at out_valid" if o.get("gold_out_valid") == "1" else "between results (out_valid low)")
-    ops = [f"step {t}: a=0x{rows[t].get('a', '?')}" for t in steps
-           if rows[t].get("in_valid") == "1" and rows[t].get("rst_n") == "1" and int(t) < int(bad or 0)]
+    pipeline = all("in_valid" not in rows[t] for t in steps)
+    if pipeline:
+        # A pipeline (a fast unit): an operation enters every step.
+        where = ""
+        ops = [f"step {t}: " + " ".join(f"{k}=0x{v}" for k, v in sorted(rows[t].items()))
+               for t in steps if int(t) < int(bad or 0)]
+    else:
+        where = ("at out_valid" if o.get("gold_out_valid") == "1" else "between results (out_valid low)")
+        ops = [f"step {t}: a=0x{rows[t].get('a', '?')}" for t in steps
+               if rows[t].get("in_valid") == "1" and rows[t].get("rst_n") == "1" and int(t) < int(bad or 0)]
     resets = [t for t in steps if rows[t].get("rst_n") == "0" and int(t) < int(bad or 0)]
-    print("differs " + sys.argv[2] + " from zero state: in_valid " + ", ".join(ops)
+    print("differs " + sys.argv[2] + " from zero state: " + ("" if pipeline else "in_valid ") + ", ".join(ops)
           + (f"; rst_n low at {','.join(resets)}" if resets else "")
           + f"; step {bad}: y 0x{o.get('gold_y', '?')}, mutant 0x{o.get('gate_y', '?')} {where}")
 PY
