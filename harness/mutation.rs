@@ -364,6 +364,15 @@ pub enum Stimulus {
         window: Window,
         cuts: std::ops::RangeInclusive<u64>,
     },
+    /// The scene co-simulated with the result stream stalled (`out_ready`
+    /// low) in `percent` of the cycles, so that the results queue up: the
+    /// fast processor's only (its result queue; the compact processor's
+    /// driver takes each result as it comes).
+    Stalled {
+        scene: Box<Scene>,
+        window: Window,
+        percent: u32,
+    },
     /// Operands through one float unit cut from the mutant netlist, each
     /// result against golden's bits and each operation's cycles against
     /// its latency ([`fp_check::check_batch`]; a pipelined unit is read at
@@ -547,7 +556,9 @@ impl Judge {
                 },
             })
         };
-        let mut resets = None;
+        // Judged after the fuzz scenes: the compact processor's resets
+        // mid-pixel, the fast one's stalled results.
+        let mut last = None;
         for name in Scene::builtin_names() {
             let what = format!("builtin {name} {}x{}", spec.width, spec.height);
             let scene = Scene::builtin(name)
@@ -562,11 +573,20 @@ impl Judge {
                 })?;
             let scene = exact(&scene, &what)?;
             let window = Window::full(&scene);
+            if *name == "reference" && processor == ProcessorKind::Fast {
+                last = Some(Check {
+                    name: format!("{what} with the results stalled in {STALL_PERCENT}% of cycles"),
+                    stimulus: Stimulus::Stalled {
+                        scene: Box::new(scene.clone()),
+                        window,
+                        percent: STALL_PERCENT,
+                    },
+                });
+            }
             if *name == "reference" && processor == ProcessorKind::Compact {
-                // Its middle pixel, cut short at every cycle of its start
-                // (judged after the fuzz scenes).
+                // Its middle pixel, cut short at every cycle of its start.
                 let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
-                resets = Some(Check {
+                last = Some(Check {
                     name: format!("reset mid-pixel: {what} pixel ({x}, {y}) cut after 1..={RESET_CUTS} cycles"),
                     stimulus: Stimulus::ResetMidPixel {
                         scene: Box::new(scene.clone()),
@@ -624,7 +644,7 @@ impl Judge {
             let window = Window::full(&scene);
             scene_check(what, scene, window);
         }
-        checks.extend(resets);
+        checks.extend(last);
         Ok(Judge {
             processor,
             spec,
@@ -645,7 +665,9 @@ impl Judge {
         self.checks
             .iter()
             .map(|c| match &c.stimulus {
-                Stimulus::Scene { window, .. } => window.pixels(),
+                Stimulus::Scene { window, .. } | Stimulus::Stalled { window, .. } => {
+                    window.pixels()
+                }
                 Stimulus::ResetMidPixel { window, cuts, .. } => {
                     window.pixels() * cuts.clone().count() as u64
                 }
@@ -660,7 +682,9 @@ impl Judge {
         self.checks
             .iter()
             .map(|c| match &c.stimulus {
-                Stimulus::Scene { .. } | Stimulus::ResetMidPixel { .. } => 0,
+                Stimulus::Scene { .. }
+                | Stimulus::ResetMidPixel { .. }
+                | Stimulus::Stalled { .. } => 0,
                 Stimulus::Unit { a, .. } => a.len() as u64,
             })
             .sum()
@@ -773,36 +797,53 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
     };
     let fast = TopOptions::fast();
     for check in &judge.checks {
-        let (scene, window, cuts) = match &check.stimulus {
-            Stimulus::Scene { scene, window } => (scene, *window, None),
-            Stimulus::ResetMidPixel {
-                scene,
-                window,
-                cuts,
-            } => (scene, *window, Some(cuts.clone())),
-            Stimulus::Unit { .. } => continue,
-        };
         let killed = |how: String| Verdict::Killed {
             check: check.name.clone(),
             how,
         };
         // The first failing run kills: a reset check stops at its first
         // failing cut.
-        let failed = match (&mut model, cuts) {
-            (Model::Compact(rtl), None) => failure(
-                cosim::run_on(rtl, scene, window, &options, &mut |_| {}),
+        let failed = match (&mut model, &check.stimulus) {
+            (_, Stimulus::Unit { .. }) => continue,
+            (Model::Compact(rtl), Stimulus::Scene { scene, window }) => failure(
+                cosim::run_on(rtl, scene, *window, &options, &mut |_| {}),
                 &mut pixels,
             ),
-            (Model::Compact(rtl), Some(mut cuts)) => cuts.find_map(|cut| {
-                let run = cut_short(rtl, scene, window, cut, &options)
-                    .and_then(|()| cosim::run_on(rtl, scene, window, &options, &mut |_| {}));
+            (
+                Model::Compact(rtl),
+                Stimulus::ResetMidPixel {
+                    scene,
+                    window,
+                    cuts,
+                },
+            ) => cuts.clone().find_map(|cut| {
+                let run = cut_short(rtl, scene, *window, cut, &options)
+                    .and_then(|()| cosim::run_on(rtl, scene, *window, &options, &mut |_| {}));
                 failure(run, &mut pixels)
             }),
-            (Model::Fast(top), None) => failure(
-                cosim::run_top_on(top, scene, window, &options, &fast, &mut |_| {}),
+            (Model::Fast(top), Stimulus::Scene { scene, window }) => failure(
+                cosim::run_top_on(top, scene, *window, &options, &fast, &mut |_| {}),
                 &mut pixels,
             ),
-            (Model::Fast(_), Some(_)) => continue,
+            (
+                Model::Fast(top),
+                Stimulus::Stalled {
+                    scene,
+                    window,
+                    percent,
+                },
+            ) => {
+                let stalled = TopOptions {
+                    stall_percent: *percent,
+                    ..fast
+                };
+                failure(
+                    cosim::run_top_on(top, scene, *window, &options, &stalled, &mut |_| {}),
+                    &mut pixels,
+                )
+            }
+            (Model::Compact(_), Stimulus::Stalled { .. })
+            | (Model::Fast(_), Stimulus::ResetMidPixel { .. }) => continue,
         };
         if let Some(how) = failed {
             return Ok(outcome(killed(how), pixels));
@@ -832,6 +873,10 @@ fn failure(run: Result<cosim::CosimReport, cosim::CosimError>, pixels: &mut u64)
         Err(e) => Some(format!("the run failed: {e}")),
     }
 }
+
+/// The share of cycles (percent) [`Stimulus::Stalled`] holds the results
+/// back in: long runs of stalls fill the fast processor's result queue.
+pub const STALL_PERCENT: u32 = 99;
 
 /// The cycles [`Stimulus::ResetMidPixel`] cuts a pixel after: 1 to this.
 pub const RESET_CUTS: u64 = 300;

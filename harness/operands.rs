@@ -117,17 +117,26 @@ const EXP_EDGES: &[u32] = &[
 ];
 
 /// Edge-case operands for `kind`: every ordered pair of [`edge_values`] for
-/// binary units; the edge values (and, for `fp_itof`, the edge integers with
-/// both signs; for `fp_exp`, [`EXP_EDGES`] with both signs and their
-/// neighbours) for unary ones. `b` is empty for unary units.
+/// binary units (and the pairs of [`FAST_ADD_MUTANT_KILLERS`],
+/// [`FAST_MUL_MUTANT_KILLERS`]); the edge values (and, for `fp_itof`, the
+/// edge integers with both signs; for `fp_exp`, [`EXP_EDGES`] with both
+/// signs and their neighbours; the mutant killers) for unary ones. `b` is
+/// empty for unary units. A pipelined unit gets its arithmetic's.
 pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     let values = edge_values();
     if kind.is_binary() {
-        let a = values
+        let mut a: Vec<u32> = values
             .iter()
             .flat_map(|&x| values.iter().map(move |_| x))
             .collect();
-        let b = values.iter().flat_map(|_| values.iter().copied()).collect();
+        let mut b: Vec<u32> = values.iter().flat_map(|_| values.iter().copied()).collect();
+        let killers = match kind.arithmetic() {
+            UnitKind::Add => FAST_ADD_MUTANT_KILLERS,
+            UnitKind::Mul => FAST_MUL_MUTANT_KILLERS,
+            _ => &[],
+        };
+        a.extend(killers.iter().map(|&(x, _, _)| x));
+        b.extend(killers.iter().map(|&(_, y, _)| y));
         return (a, b);
     }
     let mut a = values;
@@ -150,9 +159,24 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
         a.extend(correction_edges(kind));
     }
     match kind {
-        UnitKind::Recip(_) => a.extend(RECIP_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
-        UnitKind::Sqrt(_) => a.extend(SQRT_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
-        UnitKind::Exp => a.extend(EXP_MUTANT_KILLERS.iter().map(|&(v, _)| v)),
+        UnitKind::Recip(_) => a.extend(
+            RECIP_MUTANT_KILLERS
+                .iter()
+                .chain(FAST_RECIP_MUTANT_KILLERS)
+                .map(|&(v, _)| v),
+        ),
+        UnitKind::Sqrt(_) => a.extend(
+            SQRT_MUTANT_KILLERS
+                .iter()
+                .chain(FAST_SQRT_MUTANT_KILLERS)
+                .map(|&(v, _)| v),
+        ),
+        UnitKind::Exp => a.extend(
+            EXP_MUTANT_KILLERS
+                .iter()
+                .chain(FAST_EXP_MUTANT_KILLERS)
+                .map(|&(v, _)| v),
+        ),
         _ => {}
     }
     (a, Vec::new())
@@ -190,6 +214,50 @@ pub const EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
     (0x3980_0400, 425), // in_man[4] inverted into x_right (:85)
     (0x399E_81E8, 655), // u_next[1] flipped by bit 19 (:124)
     (0x3380_8000, 859), // s[35] inverted: the sticky or sig's low bit (:128)
+];
+
+/// The fast processor's (`rtl/mutate/fast_pp.mutants`): `fast_fp_recip`
+/// operands that kill mutants its other edge cases and random operands
+/// miss, each the smallest that differs in the first batch that had one,
+/// found by `examples/mutant_exhaustive.rs --processor fast` (7, 89 and 531
+/// are mutants of its fast_delay instances, run with `--unit
+/// fast_fp_recip`). Every unit with recip's arithmetic gets them.
+pub const FAST_RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0x3F80_A7F4, 311), // fast_fp_recip.v:128
+    (0x3F86_908F, 845), // :207
+    (0x3F80_1B24, 7),   // a fast_delay of it (fast_delay.v:24)
+    (0x3F81_7000, 89),  // a fast_delay of it (fast_delay.v:16)
+    (0x3F80_A7F4, 531), // a fast_delay of it (fast_delay.v:16): 311's operand
+];
+
+/// `fast_fp_sqrt`'s; see [`FAST_RECIP_MUTANT_KILLERS`].
+pub const FAST_SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0x3F83_3A4E, 378), // fast_fp_sqrt.v:231
+    (0x3FCB_41E9, 631), // :235
+];
+
+/// `fast_fp_exp`'s; see [`FAST_RECIP_MUTANT_KILLERS`].
+pub const FAST_EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
+    (0x37DD_7F80, 74),  // fast_fp_exp.v:276
+    (0x3F2C_8077, 129), // :158
+    (0x3A8D_4A82, 146), // :236
+    (0x3BD5_6D2F, 150), // :231
+];
+
+/// The fast processor's `fast_fp_add` operand pairs `(a, b, mutant)` that
+/// kill mutants its other edge cases and random operands miss, each the
+/// counterexample of `mutants.sh miter` (the pair that entered the
+/// pipeline a latency before the outputs differed).
+pub const FAST_ADD_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
+    (0xA980_0000, 0x1D20_0000, 271), // fast_fp_add.v:117
+];
+
+/// `fast_fp_mul`'s; see [`FAST_ADD_MUTANT_KILLERS`] (375 and 585 are of
+/// fast_fp_round, which every unit has; the miter showed them in the
+/// multiplier's subnormal results).
+pub const FAST_MUL_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
+    (0x0000_0003, 0x400C_0000, 375), // fast_fp_round.v:61
+    (0x3700_0000, 0x0021_0008, 585), // fast_fp_round.v:61
 ];
 
 /// Operands of each step count of the exact methods' correction (for either

@@ -172,16 +172,19 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
-    let resets = match args.processor {
+    let last = match args.processor {
         ProcessorKind::Compact => format!(
             "the reference's middle pixel reset after each of its first {} cycles; ",
             mutation::RESET_CUTS
         ),
-        ProcessorKind::Fast => String::new(),
+        ProcessorKind::Fast => format!(
+            "the reference with its results held back (out_ready low) in {}% of cycles; ",
+            mutation::STALL_PERCENT
+        ),
     };
     let units = format!(
         "for a mutant a float unit may carry, its edge cases and {} random operands through each of the {} units \
-         ({} operands); {resets}",
+         ({} operands); {last}",
         spec.unit_operands,
         mutation::units(args.processor).count(),
         judge.unit_operands(),
