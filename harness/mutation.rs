@@ -454,7 +454,8 @@ macro_rules! directed {
 /// (what it kills stays killed) and framed as the reference frames its
 /// 800 pixels, which shows the objects it was written for. The later ones
 /// (level_above, green_minus_zero, mirror_corridor, mirror_corridor_lit,
-/// six_planes, grazing_overflow, straight_up) are written framed, and were
+/// six_planes, grazing_overflow, straight_up, and for the fast processor
+/// six_planes_bare and planes_shortcut) are written framed, and were
 /// checked to reach their states in golden's trace before they joined.
 pub const DIRECTED: &[Directed] = &[
     directed!("planes_z_first", None, None),
@@ -474,6 +475,8 @@ pub const DIRECTED: &[Directed] = &[
     directed!("grazing_overflow", None, None),
     directed!("large_frame", Some(Window::new(126, 2046, 4, 4)), None),
     directed!("straight_up", Some(Window::new(1, 129, 1, 1)), None),
+    directed!("six_planes_bare", None, None),
+    directed!("planes_shortcut", None, None),
 ];
 
 /// The judge's directed-scene checks: every file of [`DIRECTED`] as

@@ -242,6 +242,8 @@ pub const FAST_EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
     (0x3F2C_8077, 129), // :158
     (0x3A8D_4A82, 146), // :236
     (0x3BD5_6D2F, 150), // :231
+    (0xBF27_1688, 223), // :184
+    (0x3CBF_9A43, 408), // :150
 ];
 
 /// The fast processor's `fast_fp_add` operand pairs `(a, b, mutant)` that
@@ -436,11 +438,20 @@ mod tests {
     }
 
     #[test]
-    fn binary_edge_cases_are_all_ordered_pairs() {
+    fn binary_edge_cases_are_all_ordered_pairs_then_the_killers() {
         let n = edge_values().len();
-        let (a, b) = edge_cases(UnitKind::Add);
-        assert_eq!((a.len(), b.len()), (n * n, n * n));
-        assert_eq!((a[1], b[1]), (edge_values()[0], edge_values()[1]));
+        for (kind, killers) in [
+            (UnitKind::Add, FAST_ADD_MUTANT_KILLERS),
+            (UnitKind::FastMul, FAST_MUL_MUTANT_KILLERS),
+        ] {
+            let (a, b) = edge_cases(kind);
+            let len = n * n + killers.len();
+            assert_eq!((a.len(), b.len()), (len, len), "{kind}");
+            assert_eq!((a[1], b[1]), (edge_values()[0], edge_values()[1]));
+            for (i, &(x, y, _)) in killers.iter().enumerate() {
+                assert_eq!((a[n * n + i], b[n * n + i]), (x, y), "{kind}");
+            }
+        }
     }
 
     #[test]

@@ -29,6 +29,21 @@ protected:
     M& model() { return *owned_.model; }
     const M& model() const { return *owned_.model; }
 
+    // Selects mutant `id` (0: the design as written) of a model verilated
+    // from a mutant netlist (Mut: it has the `mutsel` port), keeping it in
+    // `slot` for the resets to drive again; a model without mutants (`name`)
+    // refuses.
+    template <bool Mut>
+    void select_mutant(const char* name, std::uint16_t id, [[maybe_unused]] std::uint16_t& slot) {
+        if constexpr (Mut) {
+            slot = id;
+            model().mutsel = id;
+        } else {
+            throw std::runtime_error(std::string(name) + " carries no mutants (selecting mutant " + std::to_string(id) +
+                                     ")");
+        }
+    }
+
     // clk low, evaluated: settles the inputs; the outputs are this cycle's.
     void fall() {
         M& m = model();

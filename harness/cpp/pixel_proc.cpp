@@ -63,14 +63,7 @@ public:
         m.fault_xor = xor_mask;
     }
 
-    void set_mutant(std::uint16_t id) override {
-        if constexpr (Mut) {
-            mutant_ = id;
-            this->model().mutsel = id;
-        } else {
-            throw std::runtime_error(std::string(name_) + " carries no mutants (selecting mutant " + std::to_string(id) + ")");
-        }
-    }
+    void set_mutant(std::uint16_t id) override { this->template select_mutant<Mut>(name_, id, mutant_); }
 
     PpRun run_pixel(std::uint16_t px, std::uint16_t py, bool trace, rust::Vec<PpEvent>& events,
                     std::uint64_t timeout_cycles) override {

@@ -127,14 +127,7 @@ public:
         drive_fault();
     }
 
-    void set_mutant(std::uint16_t id) override {
-        if constexpr (Mut) {
-            mutant_ = id;
-            this->model().mutsel = id;
-        } else {
-            throw std::runtime_error(std::string(name_) + " carries no mutants (selecting mutant " + std::to_string(id) + ")");
-        }
-    }
+    void set_mutant(std::uint16_t id) override { this->template select_mutant<Mut>(name_, id, mutant_); }
 
     void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent) override {
         rng_ = seed ? seed : 0x9e3779b97f4a7c15ull;
