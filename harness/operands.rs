@@ -158,27 +158,14 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     if let UnitKind::Recip(_) | UnitKind::Sqrt(_) = kind {
         a.extend(correction_edges(kind));
     }
-    match kind {
-        UnitKind::Recip(_) => a.extend(
-            RECIP_MUTANT_KILLERS
-                .iter()
-                .chain(FAST_RECIP_MUTANT_KILLERS)
-                .map(|&(v, _)| v),
-        ),
-        UnitKind::Sqrt(_) => a.extend(
-            SQRT_MUTANT_KILLERS
-                .iter()
-                .chain(FAST_SQRT_MUTANT_KILLERS)
-                .map(|&(v, _)| v),
-        ),
-        UnitKind::Exp => a.extend(
-            EXP_MUTANT_KILLERS
-                .iter()
-                .chain(FAST_EXP_MUTANT_KILLERS)
-                .map(|&(v, _)| v),
-        ),
-        _ => {}
-    }
+    // The mutant killers: both processors' lists, for either's unit.
+    let killers: [&[(u32, u16)]; 2] = match kind {
+        UnitKind::Recip(_) => [RECIP_MUTANT_KILLERS, FAST_RECIP_MUTANT_KILLERS],
+        UnitKind::Sqrt(_) => [SQRT_MUTANT_KILLERS, FAST_SQRT_MUTANT_KILLERS],
+        UnitKind::Exp => [EXP_MUTANT_KILLERS, FAST_EXP_MUTANT_KILLERS],
+        _ => [&[], &[]],
+    };
+    a.extend(killers.into_iter().flatten().map(|&(v, _)| v));
     (a, Vec::new())
 }
 
