@@ -355,8 +355,9 @@ pub(crate) mod ffi {
         /// Drives fault_state, fault_xor and fault_procs from now on.
         fn set_fault(self: Pin<&mut TopSim>, state: u16, xor_mask: u32, procs_mask: u32);
 
-        /// out_ready low in `stall_percent` % of the cycles (seeded).
-        fn set_backpressure(self: Pin<&mut TopSim>, seed: u64, stall_percent: u32);
+        /// out_ready low in `stall_percent` % of the cycles (seeded): each
+        /// cycle on its own (burst 1), or in stalls of 1 to `burst` cycles.
+        fn set_backpressure(self: Pin<&mut TopSim>, seed: u64, stall_percent: u32, burst: u32);
 
         /// Cycles a processor may spend on a pixel before a Watchdog status
         /// (and twice that, plus 16, the top without a handshake before a

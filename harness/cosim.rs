@@ -24,7 +24,7 @@ use crate::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Toleran
 use crate::device::{Build, BUILT_STACK_DEPTH};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError, DEFAULT_TIMEOUT_CYCLES};
 use crate::processor::ProcessorKind;
-use crate::top::{FrameStats, Source, Top, FAST_CONTEXTS};
+use crate::top::{FrameStats, Source, Stall, Top, FAST_CONTEXTS};
 use golden::fp::Method;
 use golden::frame::Frame;
 use golden::micro::barrel::{self, PixelWork, TopStart};
@@ -93,8 +93,8 @@ pub struct TopOptions {
     /// bare fast processor built without it (`EXPOSURE = 0`), which draws
     /// scenes without exposure only.
     pub exp_unit: bool,
-    /// `out_ready` low in this share of cycles (percent, seeded per tile).
-    pub stall_percent: u32,
+    /// The result stream's backpressure (seeded per tile).
+    pub stall: Stall,
 }
 
 impl TopOptions {
@@ -105,7 +105,7 @@ impl TopOptions {
             procs,
             through_top: true,
             exp_unit: true,
-            stall_percent: 0,
+            stall: Stall::NONE,
         }
     }
 
@@ -116,7 +116,7 @@ impl TopOptions {
             procs: 1,
             through_top: false,
             exp_unit: true,
-            stall_percent: 0,
+            stall: Stall::NONE,
         }
     }
 
@@ -128,7 +128,7 @@ impl TopOptions {
             procs,
             through_top: true,
             exp_unit: true,
-            stall_percent: 0,
+            stall: Stall::NONE,
         }
     }
 
@@ -599,7 +599,7 @@ fn run_tile(
     let seed = backpressure_seed(coords);
     let start = |t: &mut Top| -> Result<(), PpError> {
         t.load_scene(scene)?;
-        t.set_backpressure(seed, top.stall_percent);
+        t.set_backpressure(seed, top.stall);
         Ok(())
     };
     // With the result stream held back, a first run of the tile finds the
@@ -608,7 +608,7 @@ fn run_tile(
     // which it refuses takes (2K pixels held, from the handshakes); for a
     // top of fast processors, those with out_ready low.
     let (mut refused, mut stalled) = (Vec::new(), Vec::new());
-    if fast && top.stall_percent > 0 {
+    if fast && top.stall.stalls() {
         start(t)?;
         t.run_frame(Source::Stream(coords), &mut |_| {})?;
         refused = t.refused_takes();
@@ -640,7 +640,7 @@ fn run_tile(
             let cycles: Vec<u64> = run.pixels.iter().map(|p| p.cycles()).collect();
             // Results held back leave when the stream takes them: the
             // frame's end is the barrel's only with the stream always ready.
-            let frame = (top.stall_percent == 0).then_some(run.cycles + FAST_FRAME_OVERHEAD);
+            let frame = (!top.stall.stalls()).then_some(run.cycles + FAST_FRAME_OVERHEAD);
             (cycles, frame)
         }
     } else {

@@ -37,7 +37,7 @@ use crate::pixel_proc::{PixelProcessor, PpError};
 use crate::processor::ProcessorKind;
 use crate::scenes::with_methods;
 use crate::shard::Shard;
-use crate::top::Top;
+use crate::top::{Stall, Top};
 use golden::fp::Method;
 use golden::scene::Scene;
 use golden::window::Window;
@@ -364,14 +364,14 @@ pub enum Stimulus {
         window: Window,
         cuts: std::ops::RangeInclusive<u64>,
     },
-    /// The scene co-simulated with the result stream stalled (`out_ready`
-    /// low) in `percent` of the cycles, so that the results queue up: the
-    /// fast processor's only (its result queue; the compact processor's
-    /// driver takes each result as it comes).
+    /// The scene co-simulated with the result stream held back (`out_ready`
+    /// low) as `stall` says, so that the results queue up: the fast
+    /// processor's only (its result queue; the compact processor's driver
+    /// takes each result as it comes).
     Stalled {
         scene: Box<Scene>,
         window: Window,
-        percent: u32,
+        stall: Stall,
     },
     /// Operands through one float unit cut from the mutant netlist, each
     /// result against golden's bits and each operation's cycles against
@@ -455,7 +455,8 @@ macro_rules! directed {
 /// 800 pixels, which shows the objects it was written for. The later ones
 /// (level_above, green_minus_zero, mirror_corridor, mirror_corridor_lit,
 /// six_planes, grazing_overflow, straight_up, and for the fast processor
-/// six_planes_bare and planes_shortcut) are written framed, and were
+/// six_planes_bare, planes_shortcut, cutoff_odd and pure_mirrors) are
+/// written framed, and were
 /// checked to reach their states in golden's trace before they joined.
 pub const DIRECTED: &[Directed] = &[
     directed!("planes_z_first", None, None),
@@ -477,6 +478,8 @@ pub const DIRECTED: &[Directed] = &[
     directed!("straight_up", Some(Window::new(1, 129, 1, 1)), None),
     directed!("six_planes_bare", None, None),
     directed!("planes_shortcut", None, None),
+    directed!("cutoff_odd", None, None),
+    directed!("pure_mirrors", None, None),
 ];
 
 /// The judge's directed-scene checks: every file of [`DIRECTED`] as
@@ -562,30 +565,24 @@ impl Judge {
         // Judged after the fuzz scenes: the compact processor's resets
         // mid-pixel, the fast one's stalled results.
         let mut last = None;
-        for name in Scene::builtin_names() {
-            let what = format!("builtin {name} {}x{}", spec.width, spec.height);
+        let builtin_at = |name: &str, width: u32, height: u32| {
+            let what = format!("builtin {name} {width}x{height}");
             let scene = Scene::builtin(name)
                 .ok_or_else(|| JudgeError {
                     what: what.clone(),
                     message: "not a builtin scene".into(),
                 })?
-                .resized(spec.width, spec.height, &what)
+                .resized(width, height, &what)
                 .map_err(|e| JudgeError {
                     what: what.clone(),
                     message: e.to_string(),
                 })?;
             let scene = exact(&scene, &what)?;
+            Ok::<_, JudgeError>((what, scene))
+        };
+        for name in Scene::builtin_names() {
+            let (what, scene) = builtin_at(name, spec.width, spec.height)?;
             let window = Window::full(&scene);
-            if *name == "reference" && processor == ProcessorKind::Fast {
-                last = Some(Check {
-                    name: format!("{what} with the results stalled in {STALL_PERCENT}% of cycles"),
-                    stimulus: Stimulus::Stalled {
-                        scene: Box::new(scene.clone()),
-                        window,
-                        percent: STALL_PERCENT,
-                    },
-                });
-            }
             if *name == "reference" && processor == ProcessorKind::Compact {
                 // Its middle pixel, cut short at every cycle of its start.
                 let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
@@ -599,6 +596,18 @@ impl Judge {
                 });
             }
             scene_check(what, scene, window);
+        }
+        if processor == ProcessorKind::Fast {
+            let (width, height) = STALLED_SIZE;
+            let (what, scene) = builtin_at("reference", width, height)?;
+            last = Some(Check {
+                name: format!("{what} with the results {STALLS}"),
+                stimulus: Stimulus::Stalled {
+                    window: Window::full(&scene),
+                    scene: Box::new(scene),
+                    stall: STALLS,
+                },
+            });
         }
         // Every file as written, then the framed ones framed.
         let as_written = DIRECTED.iter().map(|d| (d, None));
@@ -833,11 +842,11 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
                 Stimulus::Stalled {
                     scene,
                     window,
-                    percent,
+                    stall,
                 },
             ) => {
                 let stalled = TopOptions {
-                    stall_percent: *percent,
+                    stall: *stall,
                     ..fast
                 };
                 failure(
@@ -877,9 +886,21 @@ fn failure(run: Result<cosim::CosimReport, cosim::CosimError>, pixels: &mut u64)
     }
 }
 
-/// The share of cycles (percent) [`Stimulus::Stalled`] holds the results
-/// back in: long runs of stalls fill the fast processor's result queue.
-pub const STALL_PERCENT: u32 = 99;
+/// How [`Stimulus::Stalled`] holds the results back: in stalls of up to
+/// 40,000 cycles, many longer than the fast processor takes to finish
+/// every pixel it holds, so that its result queue fills to 2K entries,
+/// and short ready runs (up to 4,444 cycles) that drain it.
+pub const STALLS: Stall = Stall {
+    percent: 90,
+    burst: 40_000,
+};
+
+/// The size of the reference [`Stimulus::Stalled`] runs at: the driver runs
+/// a window a tile ([`cosim::TILE_ROWS`] rows) at a time and stops at the
+/// tile's last result, so a queue of 2K results (64) is seen to drain right
+/// only with pixels of the tile still to come; at 80 wide, a tile is 320
+/// pixels, so that the queue fills several times in each.
+pub const STALLED_SIZE: (u32, u32) = (80, 12);
 
 /// The cycles [`Stimulus::ResetMidPixel`] cuts a pixel after: 1 to this.
 pub const RESET_CUTS: u64 = 300;

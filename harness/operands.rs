@@ -225,12 +225,20 @@ pub const FAST_SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
 
 /// `fast_fp_exp`'s; see [`FAST_RECIP_MUTANT_KILLERS`].
 pub const FAST_EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x37DD_7F80, 74),  // fast_fp_exp.v:276
-    (0x3F2C_8077, 129), // :158
-    (0x3A8D_4A82, 146), // :236
-    (0x3BD5_6D2F, 150), // :231
-    (0xBF27_1688, 223), // :184
-    (0x3CBF_9A43, 408), // :150
+    (0x37DD_7F80, 74),   // fast_fp_exp.v:276
+    (0x3F2C_8077, 129),  // :158
+    (0x3A8D_4A82, 146),  // :236
+    (0x3BD5_6D2F, 150),  // :231
+    (0xBF27_1688, 223),  // :184
+    (0x3CBF_9A43, 408),  // :150
+    (0x3AA9_EDD0, 474),  // :244
+    (0x3ACA_95EC, 663),  // :188
+    (0x3ACA_95EC, 967),  // :188: 663's operand
+    (0x4100_4000, 701),  // :154
+    (0x3B5A_8F9C, 771),  // :157
+    (0xB945_EC10, 818),  // :124
+    (0x3E11_6DA6, 832),  // :137
+    (0x3F55_4A6A, 1060), // :167
 ];
 
 /// The fast processor's `fast_fp_add` operand pairs `(a, b, mutant)` that
@@ -247,6 +255,7 @@ pub const FAST_ADD_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
 pub const FAST_MUL_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
     (0x0000_0003, 0x400C_0000, 375), // fast_fp_round.v:61
     (0x3700_0000, 0x0021_0008, 585), // fast_fp_round.v:61
+    (0x0000_0241, 0x3C00_0000, 635), // fast_fp_round.v:57
 ];
 
 /// Operands of each step count of the exact methods' correction (for either

@@ -47,6 +47,7 @@ use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
 use std::collections::{HashMap, VecDeque};
+use std::fmt;
 use std::path::PathBuf;
 
 /// The fast processor's pixel contexts (`rtl/fast/fast_pp.v`, `CTX_BITS`
@@ -330,12 +331,12 @@ impl Top {
         self.inner.pin_mut().set_fault(state, xor, procs_mask);
     }
 
-    /// Holds `out_ready` low in `stall_percent` % of the cycles (0: never),
-    /// drawn from a generator seeded with `seed`.
-    pub fn set_backpressure(&mut self, seed: u64, stall_percent: u32) {
+    /// Holds `out_ready` low as `stall` says (in a share of the cycles, in
+    /// runs), drawn from a generator seeded with `seed`.
+    pub fn set_backpressure(&mut self, seed: u64, stall: Stall) {
         self.inner
             .pin_mut()
-            .set_backpressure(seed, stall_percent.min(100));
+            .set_backpressure(seed, stall.percent.min(100), stall.burst.max(1));
     }
 
     /// Refuses `scene` unless the model can draw it: its float methods,
@@ -708,6 +709,47 @@ impl Drop for Top {
         if let Some(dir) = self.coverage.take() {
             crate::coverage::write_raw(&dir, |p| self.inner.pin_mut().write_coverage(p));
         }
+    }
+}
+
+/// Backpressure on a result stream: `out_ready` low in `percent` % of the
+/// cycles, drawn from a seeded generator. Burst 1 draws every cycle on its
+/// own, so long runs of stalls are rare (at 99%, out_ready is high every
+/// 100 cycles or so). A longer burst holds the stream back in stalls of 1
+/// to `burst` cycles (uniform), the first run a stall, each followed by a
+/// ready run of 1 to `burst * (100 - percent) / percent` cycles: stalls of
+/// thousands of cycles let a result queue fill up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stall {
+    pub percent: u32,
+    pub burst: u32,
+}
+
+impl Stall {
+    /// Always ready.
+    pub const NONE: Stall = Stall {
+        percent: 0,
+        burst: 1,
+    };
+
+    /// Low in `percent` % of the cycles, each cycle drawn on its own.
+    pub fn percent(percent: u32) -> Stall {
+        Stall { percent, burst: 1 }
+    }
+
+    /// Whether `out_ready` is ever low.
+    pub fn stalls(&self) -> bool {
+        self.percent > 0
+    }
+}
+
+impl fmt::Display for Stall {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "held back {}% of cycles", self.percent)?;
+        if self.burst > 1 {
+            write!(f, ", in stalls of 1 to {} cycles", self.burst)?;
+        }
+        Ok(())
     }
 }
 

@@ -49,7 +49,7 @@ use crate::compare::Divergence;
 use crate::cosim::{self, TopOptions};
 use crate::pixel_proc::{Fault, PixelProcessor, PpError};
 use crate::processor::ProcessorKind;
-use crate::top::{Source, Top};
+use crate::top::{Source, Stall, Top};
 use golden::micro::isa::{self, dim};
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
@@ -75,12 +75,11 @@ pub enum Replay {
     /// The compact processor, one pixel from reset.
     Compact,
     /// The fast processor fed `tile`'s coordinates row by row from reset,
-    /// `out_ready` low in `stall_percent` % of the cycles as
-    /// [`cosim::run_top`] drew them for the tile; built without its
-    /// exponential unless `exp_unit`.
+    /// `out_ready` held back by `stall` as [`cosim::run_top`] drew it for
+    /// the tile; built without its exponential unless `exp_unit`.
     Fast {
         tile: Window,
-        stall_percent: u32,
+        stall: Stall,
         exp_unit: bool,
     },
 }
@@ -98,7 +97,7 @@ impl Replay {
                     .unwrap_or(window);
                 Replay::Fast {
                     tile,
-                    stall_percent: top.stall_percent,
+                    stall: top.stall,
                     exp_unit: top.exp_unit,
                 }
             }
@@ -290,7 +289,7 @@ pub fn write_window(
         Replay::Compact => compact_window(scene, fault, x, y, divergence_seq, k, &fst)?,
         Replay::Fast {
             tile,
-            stall_percent,
+            stall,
             exp_unit,
         } => fast_window(
             scene,
@@ -300,7 +299,7 @@ pub fn write_window(
             divergence_seq,
             k,
             &fst,
-            (tile, stall_percent, exp_unit),
+            (tile, stall, exp_unit),
         )?,
     };
     let at = match at {
@@ -426,7 +425,7 @@ fn fast_window(
     divergence_seq: Option<u32>,
     k: u64,
     fst: &Path,
-    (tile, stall_percent, exp_unit): (Window, u32, bool),
+    (tile, stall, exp_unit): (Window, Stall, bool),
 ) -> Result<Rerun, WaveError> {
     let coords: Vec<(u32, u32)> = tile.iter().collect();
     let fst_error = |message: String| WaveError::Fst { x, y, message };
@@ -436,7 +435,7 @@ fn fast_window(
         let mut rtl = Top::new_fast_wave(scene.render.recip, scene.render.sqrt, exp_unit)?;
         rtl.set_fault(fault, u32::MAX);
         rtl.load_scene(scene)?;
-        rtl.set_backpressure(cosim::backpressure_seed(&coords), stall_percent);
+        rtl.set_backpressure(cosim::backpressure_seed(&coords), stall);
         if let Some((first, last)) = window {
             rtl.open_wave(&fst.to_string_lossy(), first, last)
                 .map_err(fst_error)?;

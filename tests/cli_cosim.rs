@@ -597,10 +597,51 @@ fn stall_holds_the_result_stream_back_and_every_pixel_still_agrees() {
     assert!(held_frame >= bound, "{held_frame} < {bound}\n{held}");
 }
 
+/// `--stall P --stall-burst B` on the bare fast processor: the stream held
+/// back in runs of up to B cycles, so that the result queue fills; every
+/// pixel agrees with golden, and the header says how it was held back.
+#[test]
+fn stall_bursts_hold_the_fast_result_stream_back_and_every_pixel_agrees() {
+    let out = rtcosim(&[
+        "cosim",
+        "--processor",
+        "fast",
+        "--size",
+        "40x30",
+        "--window",
+        "0,0,19,5",
+        "--stall",
+        "50",
+        "--stall-burst",
+        "20000",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.lines().next().is_some_and(|l| l
+            .contains("(result stream held back 50% of cycles, in stalls of 1 to 20000 cycles)")),
+        "{stdout}"
+    );
+    assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0, "{stdout}");
+    assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+    assert_eq!(
+        number_in(&stdout, "colour:", " pixels differ"),
+        0,
+        "{stdout}"
+    );
+    // Each pixel's own cycles are the barrel rule's with the refused takes.
+    assert!(stdout.contains(" (0 pixels differ)\n"), "{stdout}");
+    assert_eq!(
+        number_in(&stdout, "fast pixel processor", " pixels"),
+        120,
+        "{stdout}"
+    );
+}
+
 /// Bad --stall values: exit 2 naming the option, before anything runs.
 #[test]
 fn bad_stall_values_are_refused_with_exit_2() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["--procs", "4", "--stall", "100"],
             "invalid value '100' for '--stall <PERCENT>': 100 is not in 0..=99",
@@ -620,6 +661,14 @@ fn bad_stall_values_are_refused_with_exit_2() {
         (
             &["--stall", "50"],
             "--stall holds back a result stream: it needs --procs or --processor fast",
+        ),
+        (
+            &["--procs", "4", "--stall", "50", "--stall-burst", "0"],
+            "invalid value '0' for '--stall-burst <CYCLES>': 0 is not in 1..=1000000",
+        ),
+        (
+            &["--procs", "4", "--stall-burst", "100"],
+            "--stall-burst 100 sets how long each stall lasts: it needs --stall PERCENT",
         ),
     ];
     for (args, message) in cases {

@@ -16,7 +16,7 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use rtcosim::top::{Source, Top, FAST_CONTEXTS};
+use rtcosim::top::{Source, Stall, Top, FAST_CONTEXTS};
 
 mod common;
 
@@ -253,15 +253,92 @@ fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp
 #[test]
 fn fast_processor_is_exact_under_backpressure() {
     let scene = builtin("overexposed", 40, 30);
-    let g = Processor::new(&scene);
-    let coords = window(0, 0, 40, 8);
+    let (refused, cycles) = run_stalled(&scene, &window(0, 0, 40, 8), 7, Stall::percent(99));
+    assert!(!refused.is_empty(), "the result queue never filled");
+    let open = barrel::run(FAST_CONTEXTS, &cycles.work);
+    assert!(
+        cycles
+            .got
+            .iter()
+            .enumerate()
+            .any(|(i, &(_, c))| c != open.pixels[i].cycles()),
+        "the refusals changed no pixel's cycles: the check would not see them"
+    );
+}
+
+/// The mutation judge's stalled check (`mutation::STALLS` on the reference
+/// at `STALLED_SIZE`, its first tile as `cosim` runs it) holds the stream
+/// back long enough that every pixel held is finished and waits in the
+/// result queue, 2K entries, with pixels of the tile still to come: a run
+/// of refused takes (2K held, counted from the handshakes, up to 2 more
+/// in the coordinate queue) outlasts two of the slowest pixels before the
+/// tile's last 2K are taken. Held back a cycle at a time (99%), out_ready
+/// is high every 100 cycles or so and the queue never fills: a mutant of
+/// its count at 2K (454) survived that.
+#[test]
+fn bursts_of_backpressure_fill_the_result_queue() {
+    let (width, height) = rtcosim::mutation::STALLED_SIZE;
+    let scene = builtin("reference", width, height);
+    let tile = rtcosim::cosim::tiles(Window::full(&scene))[0];
+    let coords: Vec<(u32, u32)> = tile.iter().collect();
+    let seed = rtcosim::cosim::backpressure_seed(&coords);
+    let (refused, cycles) = run_stalled(&scene, &coords, seed, rtcosim::mutation::STALLS);
+    let slowest = cycles.got.iter().map(|&(_, c)| c).max().expect("pixels");
+    let longest = longest_run(&refused);
+    assert!(
+        longest > 2 * slowest,
+        "the longest run of refused takes ({longest} cycles) does not outlast two of the \
+         slowest pixel ({slowest} cycles): the queue may never have held 2K results"
+    );
+    let (refused, once) = run_stalled(&scene, &coords, seed, Stall::percent(99));
+    let slowest = once.got.iter().map(|&(_, c)| c).max().expect("pixels");
+    assert!(
+        longest_run(&refused) <= slowest,
+        "stalls drawn each cycle filled the queue: the bursts would not be needed"
+    );
+}
+
+/// The longest run of consecutive cycles in `cycles` (sorted).
+fn longest_run(cycles: &[u64]) -> u64 {
+    let (mut longest, mut run, mut last) = (0, 0, None);
+    for &c in cycles {
+        run = if last == Some(c.wrapping_sub(1)) {
+            run + 1
+        } else {
+            1
+        };
+        longest = longest.max(run);
+        last = Some(c);
+    }
+    longest
+}
+
+/// The pixels of a stalled run: golden's work for each, and each result's
+/// place and cycles.
+struct StalledRun {
+    work: Vec<PixelWork>,
+    got: Vec<((u32, u32), u64)>,
+}
+
+/// Streams `coords` of `scene` through the bare fast processor with its
+/// result stream held back by `stall` (seeded with `seed`); checks every
+/// pixel against golden (writes, colour) and its cycles against the
+/// barrel rule with the processor's refused takes (`run_gated`), in
+/// coordinate order. The refused takes' cycles, and the run.
+fn run_stalled(
+    scene: &Scene,
+    coords: &[(u32, u32)],
+    seed: u64,
+    stall: Stall,
+) -> (Vec<u64>, StalledRun) {
+    let g = Processor::new(scene);
     let mut t =
         Top::new_fast(scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
-    t.load_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
-    t.set_backpressure(7, 99);
+    t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
+    t.set_backpressure(seed, stall);
     let mut bad = Vec::new();
     let mut cycles = Vec::new();
-    t.run_frame(Source::Stream(&coords), &mut |p| {
+    t.run_frame(Source::Stream(coords), &mut |p| {
         let mut events = Vec::new();
         let r = g.render_pixel(p.x, p.y, |e, _| events.push(*e));
         if let Some(d) = pixel_diff(p.events, &events) {
@@ -274,8 +351,12 @@ fn fast_processor_is_exact_under_backpressure() {
     })
     .unwrap_or_else(|e| panic!("{e}"));
     assert_exact(&bad);
+    assert_eq!(
+        cycles.len(),
+        coords.len(),
+        "every pixel came back ({stall})"
+    );
     let refused = t.refused_takes();
-    assert!(!refused.is_empty(), "the result queue never filled");
     let work: Vec<PixelWork> = coords
         .iter()
         .map(|&(x, y)| PixelWork::of(&g.render_pixel(x, y, |_, _| {})))
@@ -283,23 +364,25 @@ fn fast_processor_is_exact_under_backpressure() {
     let gated = barrel::run_gated(FAST_CONTEXTS, &work, &|c| {
         refused.binary_search(&c).is_err()
     });
-    let open = barrel::run(FAST_CONTEXTS, &work);
-    let predicted = |run: &barrel::BarrelRun, at: (u32, u32)| {
-        run.pixels[coords.iter().position(|&c| c == at).expect("fed")].cycles()
-    };
-    let wrong: Vec<_> = cycles
+    // In coordinate order.
+    let got: Vec<((u32, u32), u64)> = coords
         .iter()
-        .filter(|&&(at, c)| c != predicted(&gated, at))
+        .map(|&at| {
+            let &(_, c) = cycles.iter().find(|&&(p, _)| p == at).expect("came back");
+            (at, c)
+        })
+        .collect();
+    let wrong: Vec<_> = got
+        .iter()
+        .enumerate()
+        .filter(|&(i, &(_, c))| c != gated.pixels[i].cycles())
         .collect();
     assert!(
         wrong.is_empty(),
-        "{} pixels' cycles differ from the gated rule: {wrong:?}",
+        "{stall}: {} pixels' cycles differ from the gated rule: {wrong:?}",
         wrong.len()
     );
-    assert!(
-        cycles.iter().any(|&(at, c)| c != predicted(&open, at)),
-        "the refusals changed no pixel's cycles: the check would not see them"
-    );
+    (refused, StalledRun { work, got })
 }
 
 // ---------------------------------------------------------------------------
@@ -331,7 +414,7 @@ fn cosim_top(
         .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
-    t.set_backpressure(3, stall_percent);
+    t.set_backpressure(3, Stall::percent(stall_percent));
     assert_eq!(t.arb_group(), TOP_GROUP, "the model's ARB_GROUP");
     let phase = t.turn_phase();
     let mut bad = Vec::new();

@@ -671,7 +671,7 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
     use rtcosim::mutation::{Judge, JudgeSpec, Stimulus};
     use rtcosim::pixel_proc::PixelProcessor;
     use rtcosim::processor::ProcessorKind;
-    use rtcosim::top::Top;
+    use rtcosim::top::{Stall, Top};
     let spec = JudgeSpec {
         width: 16,
         height: 12,
@@ -687,13 +687,13 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
         let judge = Judge::new(processor, spec).expect("the judge");
         let mut checked = 0;
         for check in &judge.checks {
-            let (scene, window, stall_percent) = match &check.stimulus {
-                Stimulus::Scene { scene, window } => (scene, window, 0),
+            let (scene, window, stall) = match &check.stimulus {
+                Stimulus::Scene { scene, window } => (scene, window, Stall::NONE),
                 Stimulus::Stalled {
                     scene,
                     window,
-                    percent,
-                } => (scene, window, *percent),
+                    stall,
+                } => (scene, window, *stall),
                 _ => continue,
             };
             let report = match processor {
@@ -706,7 +706,7 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
                     *window,
                     &options,
                     &TopOptions {
-                        stall_percent,
+                        stall,
                         ..TopOptions::fast()
                     },
                     &mut |_| {},

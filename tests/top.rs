@@ -16,7 +16,7 @@ use golden::scene::Scene;
 use golden::window::Window;
 use rtcosim::cosim::{self, CosimError, CosimOptions, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
-use rtcosim::top::{Source, Top};
+use rtcosim::top::{Source, Stall, Top};
 use std::collections::BTreeMap;
 
 fn builtin(name: &str, width: u32, height: u32) -> Scene {
@@ -155,7 +155,7 @@ fn backpressure_on_the_result_stream_loses_and_duplicates_nothing() {
     let mut t = top(4, &scene);
     let mut cycles = Vec::new();
     for stall in [0, 99] {
-        t.set_backpressure(11, stall);
+        t.set_backpressure(11, Stall::percent(stall));
         let mut back: BTreeMap<(u32, u32), u32> = BTreeMap::new();
         let stats = t
             .run_frame(Source::Stream(&coords), &mut |p| {

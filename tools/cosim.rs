@@ -13,7 +13,7 @@ use rtcosim::artefacts;
 use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
 use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::processor::ProcessorKind;
-use rtcosim::top::FAST_CONTEXTS;
+use rtcosim::top::{Stall, FAST_CONTEXTS};
 use rtcosim::wave::Replay;
 
 /// The largest top of compact processors build.rs verilates on request.
@@ -63,6 +63,12 @@ pub struct CosimArgs {
     #[arg(long, value_name = "PERCENT", default_value_t = 0,
           allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=99))]
     pub stall: u32,
+    /// With --stall: each draw of the generator (stalled or ready) holds
+    /// for 1 to this many cycles, so that the stream is held back in long
+    /// runs (1: every cycle drawn on its own).
+    #[arg(long, value_name = "CYCLES", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub stall_burst: u32,
     /// Cycles a pixel may take before the RTL counts as hung: the run stops
     /// with an error naming the pixel and the last state.
     #[arg(
@@ -149,6 +155,16 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     if args.stall > 0 && args.procs.is_none() && !fast {
         anyhow::bail!("--stall holds back a result stream: it needs --procs or --processor fast");
     }
+    if args.stall_burst > 1 && args.stall == 0 {
+        anyhow::bail!(
+            "--stall-burst {} sets how long each stall lasts: it needs --stall PERCENT",
+            args.stall_burst
+        );
+    }
+    let stall = Stall {
+        percent: args.stall,
+        burst: args.stall_burst,
+    };
     if args.coverage.coverage.is_some() && args.procs.is_some() {
         anyhow::bail!(
             "--coverage measures a pixel processor run bare (the compact one, or --processor \
@@ -195,8 +211,8 @@ pub fn run(args: CosimArgs) -> Result<bool> {
             ),
             (None, _) if fast => format!(", {FAST_CONTEXTS} contexts"),
             _ => String::new(),
-        } + &if args.stall > 0 {
-            format!(" (result stream held back {}% of cycles)", args.stall)
+        } + &if stall.stalls() {
+            format!(" (result stream {stall})")
         } else {
             String::new()
         },
@@ -232,7 +248,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         (ProcessorKind::Compact, None) => None,
     }
     .map(|t| TopOptions {
-        stall_percent: args.stall,
+        stall,
         exp_unit: !args.no_exp_unit,
         ..t
     });

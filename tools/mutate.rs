@@ -178,8 +178,8 @@ pub fn run(args: MutateArgs) -> Result<bool> {
             mutation::RESET_CUTS
         ),
         ProcessorKind::Fast => format!(
-            "the reference with its results held back (out_ready low) in {}% of cycles; ",
-            mutation::STALL_PERCENT
+            "the reference with its results (out_ready low) {}; ",
+            mutation::STALLS
         ),
     };
     let units = format!(

@@ -129,9 +129,17 @@ public:
 
     void set_mutant(std::uint16_t id) override { this->template select_mutant<Mut>(name_, id, mutant_); }
 
-    void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent) override {
+    void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent, std::uint32_t burst) override {
         rng_ = seed ? seed : 0x9e3779b97f4a7c15ull;
         stall_percent_ = stall_percent > 100 ? 100 : stall_percent;
+        stall_burst_ = burst ? burst : 1;
+        // The ready runs' longest, for the share: their mean over the
+        // stalls' is (100 - percent) / percent.
+        const std::uint64_t ready = stall_percent_ == 0 ? 1
+            : static_cast<std::uint64_t>(stall_burst_) * (100 - stall_percent_) / stall_percent_;
+        ready_burst_ = ready ? ready : 1;
+        run_left_ = 0;
+        run_ready_ = true;  // so that the first run is a stall
     }
 
     void set_timeout(std::uint64_t cycles) override { timeout_ = cycles ? cycles : 1; }
@@ -186,7 +194,7 @@ public:
                 m.in_y = coords_[next_] >> 16;
             }
             if constexpr (IsTop) m.raster_start = raster_pending_;
-            m.out_ready = stall_percent_ == 0 || next_random() % 100 >= stall_percent_;
+            m.out_ready = stall_percent_ == 0 || ready_drawn();
             fall();
             ++cycle_;
             ++ran;
@@ -429,6 +437,20 @@ private:
         }
     }
 
+    // This cycle's out_ready under backpressure. Burst 1: drawn each cycle
+    // on its own. Otherwise runs that alternate, from a stall: a stall of
+    // 1 to stall_burst_ cycles, then a ready run of 1 to ready_burst_.
+    bool ready_drawn() {
+        if (stall_burst_ <= 1) return next_random() % 100 >= stall_percent_;
+        if (stall_percent_ >= 100) return false;
+        if (run_left_ == 0) {
+            run_ready_ = !run_ready_;
+            run_left_ = 1 + next_random() % (run_ready_ ? ready_burst_ : stall_burst_);
+        }
+        --run_left_;
+        return run_ready_;
+    }
+
     std::uint64_t next_random() {
         rng_ ^= rng_ << 13;
         rng_ ^= rng_ >> 7;
@@ -448,6 +470,10 @@ private:
     std::uint16_t mutant_ = 0;  // Mut: the mutsel driven
     std::uint64_t rng_ = 0x9e3779b97f4a7c15ull;
     std::uint32_t stall_percent_ = 0;
+    std::uint32_t stall_burst_ = 1;
+    std::uint64_t ready_burst_ = 1;
+    std::uint64_t run_left_ = 0;  // cycles the current run still holds
+    bool run_ready_ = true;
     std::uint64_t timeout_ = 100000;
     std::vector<std::uint32_t> coords_;
     std::size_t next_ = 0;

@@ -30,8 +30,11 @@ public:
     // Drives fault_state, fault_xor and fault_procs from now on.
     virtual void set_fault(std::uint16_t state, std::uint32_t xor_mask, std::uint32_t procs_mask) = 0;
     // out_ready low in `stall_percent` % of the cycles, from a xorshift
-    // generator seeded with `seed` (0 percent: always ready).
-    virtual void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent) = 0;
+    // generator seeded with `seed` (0 percent: always ready). Burst 1: each
+    // cycle drawn on its own; otherwise stalls of 1 to `burst` cycles
+    // (uniform) alternate with ready runs as much shorter as the share
+    // says, the first run a stall.
+    virtual void set_backpressure(std::uint64_t seed, std::uint32_t stall_percent, std::uint32_t burst) = 0;
     // Cycles a processor may spend on one pixel (Watchdog), and, twice
     // over, the top without any handshake (Stalled), before run() stops.
     virtual void set_timeout(std::uint64_t cycles) = 0;
