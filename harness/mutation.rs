@@ -456,8 +456,8 @@ macro_rules! directed {
 /// (level_above, green_minus_zero, mirror_corridor, mirror_corridor_lit,
 /// six_planes, grazing_overflow, straight_up, and for the fast processor
 /// six_planes_bare, planes_shortcut, cutoff_odd and pure_mirrors) are
-/// written framed, and were
-/// checked to reach their states in golden's trace before they joined.
+/// written framed, and were checked to reach their states in golden's
+/// trace (or to kill their mutants) before they joined.
 pub const DIRECTED: &[Directed] = &[
     directed!("planes_z_first", None, None),
     directed!("planes_x_last", None, None),

@@ -283,7 +283,7 @@ fn bursts_of_backpressure_fill_the_result_queue() {
     let coords: Vec<(u32, u32)> = tile.iter().collect();
     let seed = rtcosim::cosim::backpressure_seed(&coords);
     let (refused, cycles) = run_stalled(&scene, &coords, seed, rtcosim::mutation::STALLS);
-    let slowest = cycles.got.iter().map(|&(_, c)| c).max().expect("pixels");
+    let slowest = cycles.slowest();
     let longest = longest_run(&refused);
     assert!(
         longest > 2 * slowest,
@@ -291,7 +291,7 @@ fn bursts_of_backpressure_fill_the_result_queue() {
          slowest pixel ({slowest} cycles): the queue may never have held 2K results"
     );
     let (refused, once) = run_stalled(&scene, &coords, seed, Stall::percent(99));
-    let slowest = once.got.iter().map(|&(_, c)| c).max().expect("pixels");
+    let slowest = once.slowest();
     assert!(
         longest_run(&refused) <= slowest,
         "stalls drawn each cycle filled the queue: the bursts would not be needed"
@@ -318,6 +318,13 @@ fn longest_run(cycles: &[u64]) -> u64 {
 struct StalledRun {
     work: Vec<PixelWork>,
     got: Vec<((u32, u32), u64)>,
+}
+
+impl StalledRun {
+    /// The cycles of its slowest pixel.
+    fn slowest(&self) -> u64 {
+        self.got.iter().map(|&(_, c)| c).max().expect("pixels")
+    }
 }
 
 /// Streams `coords` of `scene` through the bare fast processor with its
