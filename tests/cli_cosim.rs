@@ -28,6 +28,18 @@ fn both(out: &Output) -> String {
     )
 }
 
+/// A cosim report's pixels all agree: no divergent pixel, no event and no
+/// colour differing.
+fn assert_agrees(stdout: &str) {
+    assert_eq!(number_in(stdout, "divergent pixels:", " ("), 0, "{stdout}");
+    assert_eq!(number_in(stdout, "events:", " differ"), 0, "{stdout}");
+    assert_eq!(
+        number_in(stdout, "colour:", " pixels differ"),
+        0,
+        "{stdout}"
+    );
+}
+
 /// The number before `suffix` (or at the end, for "") on the report line
 /// that starts with `prefix` (after indentation), e.g.
 /// `("events:", " compared")`.
@@ -550,16 +562,10 @@ fn stall_holds_the_result_stream_back_and_every_pixel_still_agrees() {
             both(&out)
         );
         let stdout = text(&out.stdout);
-        assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0, "{stdout}");
-        assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
+        assert_agrees(&stdout);
         assert_eq!(
             number_in(&stdout, "cycles: RTL", ", golden"),
             golden,
-            "{stdout}"
-        );
-        assert_eq!(
-            number_in(&stdout, "colour:", " pixels differ"),
-            0,
             "{stdout}"
         );
         let frame = number_in(&stdout, "top: 4 processors,", " frame cycles");
@@ -622,13 +628,7 @@ fn stall_bursts_hold_the_fast_result_stream_back_and_every_pixel_agrees() {
             .contains("(result stream held back 50% of cycles, in stalls of 1 to 20000 cycles)")),
         "{stdout}"
     );
-    assert_eq!(number_in(&stdout, "divergent pixels:", " ("), 0, "{stdout}");
-    assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
-    assert_eq!(
-        number_in(&stdout, "colour:", " pixels differ"),
-        0,
-        "{stdout}"
-    );
+    assert_agrees(&stdout);
     // Each pixel's own cycles are the barrel rule's with the refused takes.
     assert!(stdout.contains(" (0 pixels differ)\n"), "{stdout}");
     assert_eq!(
