@@ -5,7 +5,7 @@
 //! rounds that take each way in turn (so a drift of the shared machine's
 //! speed spreads over all of them):
 //!
-//! - `bare`: the bare C++ clock loop (`harness/cpp/bare.h`), one FFI call,
+//! - `bare`: the bare C++ clock loop (`harness/design/cpp/bare.h`), one FFI call,
 //!   nothing read but ready and done;
 //! - `driver`: the harness's driver, one FFI call a pixel, colour and
 //!   status read, no trace;
@@ -24,8 +24,10 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use rtcosim::cosim::{self, CosimOptions};
-use rtcosim::pixel_proc::PixelProcessor;
+use rtcosim::check::cosim::{self, CosimOptions};
+use rtcosim::design::pixel_proc::PixelProcessor;
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::{Design, Dut};
 use rtcosim::scenes;
 use std::time::{Duration, Instant};
 
@@ -62,7 +64,7 @@ const WAYS: [&str; 5] = ["bare", "driver", "traced", "traced+golden", "cosim"];
 
 fn run_way(
     way: &str,
-    rtl: &mut PixelProcessor,
+    dut: &mut Dut,
     scene: &Scene,
     golden: &Processor,
     pixels: &[(u32, u32)],
@@ -71,16 +73,16 @@ fn run_way(
     let mut golden_events: Vec<TraceEvent> = Vec::new();
     let mut cycles = 0;
     match way {
-        "bare" => cycles = rtl.run_bare(pixels)?,
+        "bare" => cycles = one_pixel(dut)?.run_bare(pixels)?,
         "driver" => {
             for &(x, y) in pixels {
-                cycles += rtl.run_pixel(x, y, None)?.cycles;
+                cycles += one_pixel(dut)?.run_pixel(x, y, None)?.cycles;
             }
         }
         "traced" | "traced+golden" => {
             for &(x, y) in pixels {
                 events.clear();
-                cycles += rtl.run_pixel(x, y, Some(&mut events))?.cycles;
+                cycles += one_pixel(dut)?.run_pixel(x, y, Some(&mut events))?.cycles;
                 if way == "traced+golden" {
                     golden_events.clear();
                     let g = golden.render_pixel(x, y, |e, _| golden_events.push(*e));
@@ -96,7 +98,7 @@ fn run_way(
         }
         "cosim" => {
             let window = Window::full(scene);
-            let report = cosim::run_on(rtl, scene, window, &CosimOptions::default(), &mut |_| {})?;
+            let report = cosim::run_on(dut, scene, window, &CosimOptions::default(), &mut |_| {})?;
             ensure!(
                 report.passed(),
                 "the co-simulation found divergences:\n{report}"
@@ -108,13 +110,19 @@ fn run_way(
     Ok(cycles)
 }
 
+/// The compact processor's one-pixel driver, which the ways but `cosim`
+/// drive directly.
+fn one_pixel(dut: &mut Dut) -> Result<&mut PixelProcessor> {
+    dut.one_pixel().context("the compact processor is driven one pixel at a time")
+}
+
 fn main() -> Result<()> {
     let args = Args::parse();
     ensure!(args.rounds > 0, "--rounds must be at least 1");
     let scene = scenes::load(&args.scene)?
         .resized(args.size.0, args.size.1, "--size")
         .context("resizing the scene")?;
-    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt)?;
+    let mut rtl = Design::for_scene(ProcessorKind::Compact, &scene).open()?;
     rtl.load_scene(&scene)?;
     let golden = Processor::new(&scene);
     let pixels: Vec<(u32, u32)> = Window::full(&scene).iter().collect();

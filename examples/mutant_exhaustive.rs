@@ -52,10 +52,10 @@
 
 use anyhow::{bail, Context, Result};
 use golden::fp::Method;
-use rtcosim::fp_unit::{FpUnit, UnitKind};
-use rtcosim::mutation::List;
-use rtcosim::operands::CHUNK;
-use rtcosim::processor::ProcessorKind;
+use rtcosim::design::fp_unit::{FpUnit, UnitKind};
+use rtcosim::campaign::mutation::List;
+use rtcosim::check::operands::CHUNK;
+use rtcosim::design::processor::ProcessorKind;
 use std::time::Instant;
 
 /// Fractions the exponent sweep runs at every exponent field and sign:
@@ -217,15 +217,15 @@ fn judge(kind: UnitKind, id: u16, all: bool, classes: &Classes) -> Result<Found>
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let (mut threads, mut all, mut classes, mut ids) = (1usize, false, Classes::Unit, Vec::new());
-    let (mut processor, mut unit) = (ProcessorKind::Compact, None);
+    let (mut processor, mut unit) = (ProcessorKind::default(), None);
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--processor" => {
-                processor = match args.next().as_deref() {
-                    Some("compact") => ProcessorKind::Compact,
-                    Some("fast") => ProcessorKind::Fast,
-                    other => bail!("--processor compact|fast, got {other:?}"),
-                };
+                let name = args.next().unwrap_or_default();
+                processor = ProcessorKind::ALL
+                    .into_iter()
+                    .find(|k| k.name() == name)
+                    .with_context(|| format!("--processor compact|fast, got {name:?}"))?;
             }
             "--unit" => unit = Some(args.next().context("--unit NAME")?),
             "--threads" => {
@@ -279,19 +279,13 @@ fn main() -> Result<()> {
     }
     let list = List::committed(processor)?;
     // The units this tool takes: the unary ones with classes.
-    let units: [UnitKind; 3] = match processor {
-        ProcessorKind::Compact => [
-            UnitKind::Recip(Method::Exact),
-            UnitKind::Sqrt(Method::Exact),
-            UnitKind::Exp,
-        ],
-        ProcessorKind::Fast => [
-            UnitKind::FastRecip(Method::Exact),
-            UnitKind::FastSqrt(Method::Exact),
-            UnitKind::FastExp,
-        ],
-    };
-    let named = |module: &str| units.into_iter().find(|k| k.module() == module);
+    let units: Vec<UnitKind> = processor
+        .row()
+        .units
+        .into_iter()
+        .filter(|k| k.method() == Some(Method::Exact) || k.module().ends_with("exp"))
+        .collect();
+    let named = |module: &str| units.iter().copied().find(|k| k.module() == module);
     let forced = match &unit {
         None => None,
         Some(name) => Some(named(name).with_context(|| {
@@ -303,7 +297,7 @@ fn main() -> Result<()> {
     for &id in &ids {
         if id == 0 {
             // The design as written: golden's own check, on all three units.
-            for kind in units {
+            for &kind in &units {
                 jobs.push((0, kind, "the design".to_string()));
             }
             continue;

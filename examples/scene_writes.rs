@@ -6,7 +6,7 @@
 //!     cargo run --release --example scene_writes -- reference 200x150 > writes.txt
 
 use anyhow::{bail, Context, Result};
-use rtcosim::pixel_proc::scene_port_writes;
+use rtcosim::design::scene_port_writes;
 use rtcosim::scenes;
 
 fn main() -> Result<()> {

@@ -776,8 +776,8 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
     assert_eq!(out.status.code(), Some(2), "{}", both(&out));
     assert!(
         text(&out.stderr).contains(
-            "no top of 3 fast processors was verilated with recip method 0 and sqrt method 0 \
-             (build with RTCOSIM_TOPS=fast:N or fast:N:recip:sqrt to add it)"
+            "top of 3 fast pixel processors (recip exact, sqrt exact): not a model of this \
+             build: build it by name: RTCOSIM_TOPS=fast:3:exact:exact cargo build --release"
         ),
         "{}",
         both(&out)
@@ -864,8 +864,8 @@ fn the_fast_processor_without_its_exponential_agrees_and_refuses_exposure() {
             "--no-exp-unit",
         ],
         &[
-            "--no-exp-unit builds the fast processor without its exponential: it needs \
-           --processor fast",
+            "--no-exp-unit: compact pixel processor without its exponential (recip exact, sqrt \
+             exact): the compact processor always has its exponential",
         ],
     );
     let cases: [(&[&str], &str); 2] = [
@@ -876,7 +876,9 @@ fn the_fast_processor_without_its_exponential_agrees_and_refuses_exposure() {
         ),
         (
             &["--procs", "2"],
-            "--no-exp-unit: the tops of fast processors are verilated with the exponential only",
+            "--procs 2 --no-exp-unit: top of 2 fast pixel processors without its exponential \
+             (recip exact, sqrt exact): the tops of fast processors are built with the \
+             exponential only",
         ),
     ];
     for (args, message) in cases {

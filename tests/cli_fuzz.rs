@@ -10,7 +10,7 @@ mod common;
 
 use common::{arg, assert_refused, both, rtcosim, scratch, text};
 use golden::scene::Scene;
-use rtcosim::fuzz::generate;
+use rtcosim::campaign::fuzz::generate;
 
 const SEED: u64 = 3;
 const FIRST: u64 = 5;

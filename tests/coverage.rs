@@ -7,6 +7,8 @@
 use golden::micro::isa;
 use std::hash::Hasher;
 use std::path::Path;
+use rtcosim::design::Design;
+use rtcosim::design::processor::ProcessorKind;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -119,7 +121,7 @@ fn the_fast_controllers_own_transitions_were_argued_on_todays_fast_controller() 
 
 #[test]
 fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
-    let path = root().join(rtcosim::coverage::UNREACHABLE_PATH);
+    let path = root().join(rtcosim::output::coverage::UNREACHABLE_PATH);
     let text = std::fs::read_to_string(&path).expect("the list");
     let now = ctrl_hash_line();
     assert!(
@@ -130,7 +132,7 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
     );
     // The fast controller's own list: argued on today's fast_ctrl.v, its
     // groups' arguments in its header or the compact list's.
-    let fast_path = root().join(rtcosim::coverage::FAST_UNREACHABLE_PATH);
+    let fast_path = root().join(rtcosim::output::coverage::FAST_UNREACHABLE_PATH);
     let fast_text = std::fs::read_to_string(&fast_path).expect("the fast list");
     let fast_now = hash_line("rtl/fast/fast_ctrl.v");
     assert!(
@@ -142,7 +144,7 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
     let text = text + &fast_text;
     let (_, mut pairs) = table();
     pairs.extend(fast_table());
-    let argued = rtcosim::coverage::unreachable().expect("the lists read");
+    let argued = rtcosim::output::coverage::unreachable().expect("the lists read");
     let mut seen = std::collections::BTreeSet::new();
     for t in &argued {
         assert!(
@@ -224,10 +226,9 @@ fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
             );
         }
         let window = golden::window::Window::full(scene);
-        let report = rtcosim::cosim::run(
-            scene,
+        let report = rtcosim::check::cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene,
             window,
-            &rtcosim::cosim::CosimOptions::default(),
+            &rtcosim::check::cosim::CosimOptions::default(),
             &|_| {},
         )
         .expect("the run");
@@ -238,11 +239,11 @@ fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
 
 #[test]
 fn without_the_coverage_build_coverage_is_refused_with_the_command_that_builds_it() {
-    if rtcosim::coverage::BUILT {
+    if rtcosim::output::coverage::BUILT {
         return;
     }
     let dir = std::env::temp_dir().join(format!("rtcosim-cov-refused-{}", std::process::id()));
-    let e = rtcosim::coverage::enable(&dir).unwrap_err().to_string();
+    let e = rtcosim::output::coverage::enable(&dir).unwrap_err().to_string();
     assert!(e.contains("--features coverage"), "{e}");
 }
 
@@ -251,8 +252,8 @@ fn without_the_coverage_build_coverage_is_refused_with_the_command_that_builds_i
 mod built {
     use super::*;
     use golden::window::Window;
-    use rtcosim::cosim::{self, CosimOptions};
-    use rtcosim::coverage::{self, Kind};
+    use rtcosim::check::cosim::{self, CosimOptions};
+    use rtcosim::output::coverage::{self, Kind};
 
     /// Coverage goes to one directory per process: one test at a time.
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -296,7 +297,7 @@ mod built {
             .build()
             .expect("pool");
         let report = pool
-            .install(|| cosim::run(&scene, window, &CosimOptions::default(), &|_| {}))
+            .install(|| cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &CosimOptions::default(), &|_| {}))
             .expect("run");
         assert!(report.passed());
         let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");
@@ -340,11 +341,11 @@ mod built {
         let scene = reference_40x30();
         // More pixels than contexts, so that done turns take the next.
         let window = Window::new(0, 10, 40, 2);
-        let report = cosim::run_top(
+        let report = cosim::run(
+            &Design::for_scene(ProcessorKind::Fast, &scene),
             &scene,
             window,
             &CosimOptions::default(),
-            &cosim::TopOptions::fast(),
             &|_| {},
         )
         .expect("run");
@@ -398,8 +399,7 @@ mod built {
         let (_one, dir) = coverage_into("cov-scenes");
         let scenes = cover_scenes();
         for (file, scene, _) in &scenes {
-            let report = cosim::run(
-                scene,
+            let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene,
                 Window::full(scene),
                 &CosimOptions::default(),
                 &|_| {},

@@ -1,11 +1,11 @@
 //! The cost table (rtl/synth/costs.toml) and the device model
-//! (harness/device.rs): the committed table reads, says where every figure
+//! (harness/output/device.rs): the committed table reads, says where every figure
 //! comes from, and refuses what it does not hold; a device's fill is the
 //! binding resource's quotient, and its frames a second follow.
 
 use golden::fp::Method;
-use rtcosim::device::{Build, CostError, CostTable, Device, Source};
-use rtcosim::processor::ProcessorKind;
+use rtcosim::output::device::{Build, CostError, CostTable, Device, Source};
+use rtcosim::design::processor::ProcessorKind;
 
 fn build(processor: ProcessorKind, exposure: bool) -> Build {
     Build {

@@ -15,7 +15,7 @@
 use golden::fp::Method;
 use golden::micro::alu::fast_latency;
 use golden::micro::isa::op;
-use rtcosim::fast_alu::{check, FastAlu, Plan, Schedule};
+use rtcosim::design::fast_alu::{check, FastAlu, Plan, Schedule};
 
 const SEED: u64 = 0x2011_0607;
 

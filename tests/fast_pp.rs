@@ -16,11 +16,14 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use rtcosim::top::{Source, Stall, Top, FAST_CONTEXTS};
+use rtcosim::design::top::{Source, Stall, Top};
+use rtcosim::design::processor::FAST_CONTEXTS;
 
 mod common;
 
 use common::{builtin, window};
+use rtcosim::design::Design;
+use golden::fp::Method;
 
 /// Cycles a frame takes beyond the barrel rule's (fast_pp.v: one into the
 /// coordinate queue, two of the register file's read, one into the result
@@ -43,7 +46,7 @@ fn pixel_diff(rtl: &[TraceEvent], golden: &[TraceEvent]) -> Option<String> {
 fn cosim(scene: &Scene, coords: &[(u32, u32)], fault: Option<Fault>, contexts: u32) -> Vec<String> {
     let g = Processor::new(scene);
     let mut t =
-        Top::new_fast(scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
+        Top::open(&Design::fast(scene.render.recip, scene.render.sqrt)).unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
     let mut bad = Vec::new();
@@ -154,13 +157,14 @@ fn fast_processor_checkers_fail_on_injected_faults() {
 }
 
 /// Every builtin scene, a whole reduced frame, through the co-simulation
-/// engine (`cosim::run_top`, tiles of 4 rows) with `top`: every event,
+/// engine (`cosim::run`, tiles of 4 rows) on `top` (with each scene's
+/// methods): every event,
 /// colour and pixel cycle count, and each tile's frame cycles, as golden
 /// and the processors' rule say.
 /// A processor without its exponential (`top.exp_unit` false) runs the
 /// scenes without exposure (at least one is left out).
-fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
-    use rtcosim::cosim::{self, CosimOptions};
+fn assert_every_builtin_scene_agrees(top: &Design) {
+    use rtcosim::check::cosim::{self, CosimOptions};
     let scenes: Vec<_> = Scene::builtin_names()
         .iter()
         .map(|&name| (name, builtin(name, 32, 24)))
@@ -172,7 +176,8 @@ fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
     );
     for (name, scene) in scenes {
         let window = Window::full(&scene);
-        let r = cosim::run_top(&scene, window, &CosimOptions::default(), top, &|_| {})
+        let design = top.methods_of(&scene);
+        let r = cosim::run(&design, &scene, window, &CosimOptions::default(), &|_| {})
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let c = &r.compare.counts;
         assert_eq!(c.pixels, window.pixels(), "{name}\n{r}");
@@ -186,7 +191,7 @@ fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
             t.predicted_frame_cycles.is_some() && t.frame_cycles_agree(),
             "{name}\n{r}"
         );
-        assert_eq!((t.procs, t.contexts), (top.procs, top.contexts()), "{name}");
+        assert_eq!((r.design.procs, t.contexts), (top.procs, top.contexts()), "{name}");
         assert!(r.passed(), "{name}\n{r}");
     }
 }
@@ -194,7 +199,7 @@ fn assert_every_builtin_scene_agrees(top: &rtcosim::cosim::TopOptions) {
 /// `cosim --processor fast`: the bare fast processor, the barrel rule.
 #[test]
 fn every_builtin_scene_agrees_on_the_fast_processor() {
-    assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast());
+    assert_every_builtin_scene_agrees(&Design::fast(Method::Exact, Method::Exact));
 }
 
 /// `cosim --processor fast --no-exp-unit`: the fast processor built
@@ -203,12 +208,9 @@ fn every_builtin_scene_agrees_on_the_fast_processor() {
 /// exposure when the scene is loaded, naming why.
 #[test]
 fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp() {
-    use rtcosim::cosim::{self, CosimOptions, TopOptions};
-    use rtcosim::pixel_proc::PpError;
-    let without = TopOptions {
-        exp_unit: false,
-        ..TopOptions::fast()
-    };
+    use rtcosim::check::cosim::{self, CosimOptions};
+    use rtcosim::design::PpError;
+    let without = Design::fast(Method::Exact, Method::Exact).exp_unit(false);
     assert_every_builtin_scene_agrees(&without);
 
     let scene = builtin("reference", 32, 24);
@@ -219,7 +221,7 @@ fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp
         }),
         ..CosimOptions::default()
     };
-    let r = cosim::run_top(&scene, Window::full(&scene), &options, &without, &|_| {})
+    let r = cosim::run(&without, &scene, Window::full(&scene), &options, &|_| {})
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(!r.passed() && r.compare.counts.divergent_pixels > 0, "{r}");
 
@@ -228,7 +230,7 @@ fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp
         .render
         .exposure
         .expect("overexposed sets an exposure");
-    let mut t = Top::new_fast_without_exp(overexposed.render.recip, overexposed.render.sqrt)
+    let mut t = Top::open(&Design::fast(overexposed.render.recip, overexposed.render.sqrt).exp_unit(false))
         .unwrap_or_else(|e| panic!("{e}"));
     let refused = t.load_scene(&overexposed);
     assert_eq!(
@@ -277,12 +279,12 @@ fn fast_processor_is_exact_under_backpressure() {
 /// its count at 2K (454) survived that.
 #[test]
 fn bursts_of_backpressure_fill_the_result_queue() {
-    let (width, height) = rtcosim::mutation::STALLED_SIZE;
+    let (width, height) = rtcosim::campaign::mutation::STALLED_SIZE;
     let scene = builtin("reference", width, height);
-    let tile = rtcosim::cosim::tiles(Window::full(&scene))[0];
+    let tile = rtcosim::check::cosim::tiles(Window::full(&scene))[0];
     let coords: Vec<(u32, u32)> = tile.iter().collect();
-    let seed = rtcosim::cosim::backpressure_seed(&coords);
-    let (refused, cycles) = run_stalled(&scene, &coords, seed, rtcosim::mutation::STALLS);
+    let seed = rtcosim::check::cosim::backpressure_seed(&coords);
+    let (refused, cycles) = run_stalled(&scene, &coords, seed, rtcosim::campaign::mutation::STALLS);
     let slowest = cycles.slowest();
     let longest = longest_run(&refused);
     assert!(
@@ -340,7 +342,7 @@ fn run_stalled(
 ) -> (Vec<u64>, StalledRun) {
     let g = Processor::new(scene);
     let mut t =
-        Top::new_fast(scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
+        Top::open(&Design::fast(scene.render.recip, scene.render.sqrt)).unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_backpressure(seed, stall);
     let mut bad = Vec::new();
@@ -417,7 +419,7 @@ fn cosim_top(
     rule_sees_stalls: bool,
 ) -> Vec<String> {
     let g = Processor::new(scene);
-    let mut t = Top::new_fast_procs(TOP_PROCS, scene.render.recip, scene.render.sqrt)
+    let mut t = Top::open(&Design::fast(scene.render.recip, scene.render.sqrt).procs(Some(TOP_PROCS)))
         .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
@@ -603,7 +605,9 @@ fn a_top_of_fast_processors_checkers_fail_on_injected_faults() {
 /// top's rule.
 #[test]
 fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
-    assert_every_builtin_scene_agrees(&rtcosim::cosim::TopOptions::fast_top(TOP_PROCS));
+    assert_every_builtin_scene_agrees(
+        &Design::fast(Method::Exact, Method::Exact).procs(Some(TOP_PROCS)),
+    );
 }
 
 /// `cosim::run_pixels` on the fast processor (the sweep's confirmation):
@@ -613,12 +617,13 @@ fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
 /// by name (results are matched to pixels by their coordinates).
 #[test]
 fn a_list_of_pixels_runs_on_the_fast_processor() {
-    use rtcosim::cosim::{run_pixels, CosimError, CosimOptions};
-    use rtcosim::device::Build;
-    use rtcosim::processor::ProcessorKind;
+    use rtcosim::check::cosim::{run_pixels, CosimError, CosimOptions};
+    use rtcosim::output::device::Build;
+    use rtcosim::design::processor::ProcessorKind;
     let scene = Scene::reference().resized(64, 48, "test").expect("resized");
     let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
-    let fast = Build::for_scene(ProcessorKind::Fast, recip, sqrt, true);
+    let build = Build::for_scene(ProcessorKind::Fast, recip, sqrt, true);
+    let fast = build.design().unwrap_or_else(|e| panic!("{e}"));
     // Every other pixel, backwards (out of row order): 1,536, two chunks.
     let pixels: Vec<(u32, u32)> = (0..64 * 48)
         .rev()
@@ -628,7 +633,7 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
     assert!(pixels.len() > 1024);
     let options = CosimOptions::default();
     let report =
-        run_pixels(&scene, &pixels, fast, &options, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
+        run_pixels(&fast, &scene, &pixels, &options, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
     assert!(report.passed(), "{report}");
     assert_eq!(report.counts.pixels, pixels.len() as u64);
     let faulty = CosimOptions {
@@ -636,48 +641,41 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
         ..CosimOptions::default()
     };
     let report =
-        run_pixels(&scene, &pixels[..40], fast, &faulty, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
+        run_pixels(&fast, &scene, &pixels[..40], &faulty, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.counts.divergent_pixels, 40, "{report}");
     let twice = [(3, 4), (5, 6), (3, 4)];
-    let err = run_pixels(&scene, &twice, fast, &options, &|_| {}).expect_err("a repeated pixel");
+    let err = run_pixels(&fast, &scene, &twice, &options, &|_| {}).expect_err("a repeated pixel");
     assert_eq!(err, CosimError::Repeated { x: 3, y: 4 });
     assert_eq!(
         err.to_string(),
-        "pixel (3, 4) is listed twice: the fast processor's pixels must be distinct"
+        "pixel (3, 4) is listed twice: a tile's pixels must be distinct"
     );
-    // A build the harness does not verilate for the scene is refused by
-    // name, before any pixel runs.
+    // A build the harness does not verilate is refused by name, and a
+    // design of other methods than the scene's before any pixel runs.
     let other = |m: golden::fp::Method| golden::fp::Method::ALL.into_iter().find(|&n| n != m);
     let not_built = [
         (
             Build {
                 stack_depth: 4,
-                ..fast
+                ..build
             },
-            "build.rs verilates STACK_DEPTH 8 only",
-        ),
-        (
-            Build {
-                recip: other(recip).expect("two methods"),
-                ..fast
-            },
-            "its methods are not the scene's",
+            "the models are verilated with STACK_DEPTH 8 only",
         ),
         (
             Build {
                 processor: ProcessorKind::Compact,
                 exposure: false,
-                ..fast
+                ..build
             },
-            "the compact processor is built with its exponential only",
+            "the compact processor always has its exponential",
         ),
     ];
     for (build, why) in not_built {
-        let err = run_pixels(&scene, &pixels[..2], build, &options, &|_| {})
-            .expect_err("a build not verilated");
-        assert_eq!(
-            err.to_string(),
-            format!("the {build} is not a build the harness verilates for this scene: {why}")
-        );
+        let err = build.design().expect_err("a build not verilated");
+        assert!(err.to_string().ends_with(why), "{err}");
     }
+    let other_methods = Design::fast(other(recip).expect("two methods"), sqrt);
+    let err = run_pixels(&other_methods, &scene, &pixels[..2], &options, &|_| {})
+        .expect_err("other methods than the scene's");
+    assert!(err.to_string().contains("but this pixel processor"), "{err}");
 }

@@ -8,9 +8,9 @@
 //! `checker_*` tests prove the comparison can fail.
 
 use golden::fp::{Method, UlpDistance};
-use rtcosim::fp_check::{self, check_batch, CheckReport, Operands};
-use rtcosim::fp_unit::{FpUnit, UnitError, UnitKind};
-use rtcosim::operands;
+use rtcosim::check::fp_check::{self, check_batch, CheckReport, Operands};
+use rtcosim::design::fp_unit::{FpUnit, UnitError, UnitKind};
+use rtcosim::check::operands;
 
 const SEED: u64 = 0x2011_0607;
 const RANDOM_OPERANDS: u64 = 1_000_000;

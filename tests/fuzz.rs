@@ -6,9 +6,9 @@
 //! campaign of 10,000 scenes recorded in docs/rtl.md.
 
 use golden::micro::isa::state;
-use rtcosim::fuzz::{self, Fate, FuzzOptions, FuzzReport};
-use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
-use rtcosim::processor::ProcessorKind;
+use rtcosim::campaign::fuzz::{self, Fate, FuzzOptions, FuzzReport};
+use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::processor::ProcessorKind;
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {

@@ -1,7 +1,7 @@
 //! The pixel processor under a second simulator: Icarus Verilog (`iverilog
 //! -g2005`, `vvp`) runs rtl/ with the testbench tests/icarus/pp_tb.v, loaded
 //! through the scene port with golden's scene writes and configuration word
-//! (as harness/pixel_proc.rs loads the verilated model), and every pixel's
+//! (as harness/design/pixel_proc.rs loads the verilated model), and every pixel's
 //! RGB bits and cycle count must equal golden::micro's. Verilog whose meaning
 //! depends on the simulator (a function reading signals that are not its
 //! arguments, a combinational block whose reads hide in tasks) shows here as
@@ -28,6 +28,7 @@ use common::icarus::{
 use common::{builtin, reduced, window};
 use golden::fp::Method;
 use golden::scene::Scene;
+use rtcosim::design::Design;
 
 /// Every 12th of the 307 pixels of the 80x60 reference frame whose colour
 /// Icarus computed differently from golden (and Verilator) on the RTL
@@ -312,7 +313,7 @@ fn icarus_speed_against_verilator() {
     assert!(diff.is_empty(), "{}", diff.join("\n"));
     let icarus_cycles: u64 = got.iter().map(|p| p.cycles).sum();
 
-    let mut rtl = rtcosim::pixel_proc::PixelProcessor::new(scene.render.recip, scene.render.sqrt)
+    let mut rtl = rtcosim::design::pixel_proc::PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt))
         .expect("the verilated model");
     rtl.load_scene(&scene).expect("loading the scene");
     let start = std::time::Instant::now();
@@ -357,8 +358,8 @@ fn pipelined_units_agree_with_golden() {
     if !icarus_present("pipelined_units_agree_with_golden") {
         return;
     }
-    use rtcosim::fp_unit::UnitKind;
-    use rtcosim::operands;
+    use rtcosim::design::fp_unit::UnitKind;
+    use rtcosim::check::operands;
     let recip = UnitKind::FastRecip(Method::Exact);
     let (mut a, mut b) = operands::edge_cases(UnitKind::FastAdd);
     let (ra, rb) = operands::random_chunk(UnitKind::FastAdd, 0x2011_0607, 0, 20_000);
@@ -451,7 +452,7 @@ fn fast_alu_agrees_with_golden_under_icarus() {
     }
     use golden::micro::alu::fast_latency;
     use golden::micro::isa::op;
-    use rtcosim::fast_alu::{Plan, Schedule};
+    use rtcosim::design::fast_alu::{Plan, Schedule};
     let dir = work_dir("fast_alu");
     for exposure in [true, false] {
         let plan = Plan {

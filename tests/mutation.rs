@@ -92,7 +92,7 @@ fn listed_hash(list: &str) -> String {
 fn the_mutant_lists_were_listed_on_todays_rtl() {
     let today = script(SMOKE_LIST, &["hash"]).trim().to_string();
     assert_eq!(today.len(), 16, "{SCRIPT} hash: {today:?}");
-    for list in [rtcosim::mutation::COMPACT.list_path, SMOKE_LIST] {
+    for list in [rtcosim::design::processor::ProcessorKind::Compact.row().mutants.list_path, SMOKE_LIST] {
         assert_eq!(
             listed_hash(list),
             today,
@@ -390,10 +390,10 @@ fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
 #[test]
 fn a_killed_campaign_resumes_from_its_journal() {
     use common::{arg, both, rtcosim, text};
-    use rtcosim::mutation::{Campaign, JudgeSpec, List, Outcome, Verdict};
-    use rtcosim::processor::ProcessorKind;
-    use rtcosim::shard::file::run_config;
-    use rtcosim::shard::journal::Journal;
+    use rtcosim::campaign::mutation::{Campaign, JudgeSpec, List, Outcome, Verdict};
+    use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::campaign::shard::file::run_config;
+    use rtcosim::campaign::shard::journal::Journal;
     let dir = common::scratch("mutation", "resume");
     let list = List::committed(ProcessorKind::Compact).expect("the list");
     // The campaign `mutate --mutants 1-2 --size 8x6 --fuzz 0` runs (its
@@ -406,7 +406,7 @@ fn a_killed_campaign_resumes_from_its_journal() {
             fuzz_seed: 1,
             fuzz_count,
             unit_operands: 10_000,
-            timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
+            timeout_cycles: rtcosim::design::DEFAULT_TIMEOUT_CYCLES,
         },
         mutants: vec![1, 2],
         rtl_hash: list.rtl_hash.clone(),
@@ -490,15 +490,15 @@ fn the_float_unit_stage_kills_a_mutant_every_scene_misses() {
 #[cfg(feature = "mutation")]
 #[test]
 fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
-    use rtcosim::mutation::{judge, Judge, JudgeSpec, Stimulus, Verdict};
-    use rtcosim::processor::ProcessorKind;
+    use rtcosim::campaign::mutation::{judge, Judge, JudgeSpec, Stimulus, Verdict};
+    use rtcosim::design::processor::ProcessorKind;
     let spec = JudgeSpec {
         width: 8,
         height: 6,
         fuzz_seed: 1,
         fuzz_count: 0,
         unit_operands: 0,
-        timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
+        timeout_cycles: rtcosim::design::DEFAULT_TIMEOUT_CYCLES,
     };
     let full = Judge::new(ProcessorKind::Compact, spec).expect("the judge");
     let resets = |j: &Judge| {
@@ -531,8 +531,8 @@ fn a_reset_mid_pixel_kills_an_alu_that_never_resets() {
 #[test]
 fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
     use golden::fp::Method;
-    use rtcosim::fp_unit::{FpUnit, UnitKind};
-    use rtcosim::processor::ProcessorKind;
+    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
+    use rtcosim::design::processor::ProcessorKind;
     for kind in [
         UnitKind::Recip(Method::Fast),
         UnitKind::FastSqrt(Method::Fast),
@@ -543,7 +543,7 @@ fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
         assert!(err.to_string().contains("exact methods only"), "{err}");
     }
     let processors = [ProcessorKind::Compact, ProcessorKind::Fast];
-    for kind in processors.into_iter().flat_map(rtcosim::mutation::units) {
+    for kind in processors.into_iter().flat_map(rtcosim::campaign::mutation::units) {
         let mut unit = FpUnit::new_mutant(kind, 0).expect("a unit of the netlist");
         let (a, b) = (vec![0x3F80_0000u32], vec![0x4000_0000u32]);
         let (y, _) = unit
@@ -566,8 +566,8 @@ fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
 #[test]
 fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
     use golden::fp::Method;
-    use rtcosim::fp_unit::{FpUnit, UnitKind};
-    let (a, _) = rtcosim::operands::random_chunk(UnitKind::Exp, 7, 0, 200);
+    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
+    let (a, _) = rtcosim::check::operands::random_chunk(UnitKind::Exp, 7, 0, 200);
     // fp_exp's working range is x <= 0 (exposure * colour).
     let negative: Vec<u32> = a.iter().map(|x| x | 0x8000_0000).collect();
     for (id, kind, a) in [
@@ -603,8 +603,8 @@ fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
 #[test]
 fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
     use golden::fp::Method;
-    use rtcosim::fp_unit::{FpUnit, UnitKind};
-    use rtcosim::operands::{
+    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
+    use rtcosim::check::operands::{
         edge_cases, EXP_MUTANT_KILLERS, FAST_ADD_MUTANT_KILLERS, FAST_EXP_MUTANT_KILLERS,
         FAST_MUL_MUTANT_KILLERS, FAST_RECIP_MUTANT_KILLERS, FAST_SQRT_MUTANT_KILLERS,
         RECIP_MUTANT_KILLERS, SQRT_MUTANT_KILLERS,
@@ -667,23 +667,24 @@ fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
 #[test]
 fn the_judges_scenes_agree_with_golden_on_both_processors() {
     use golden::fp::Method;
-    use rtcosim::cosim::{self, CosimOptions, TopOptions};
-    use rtcosim::mutation::{Judge, JudgeSpec, Stimulus};
-    use rtcosim::pixel_proc::PixelProcessor;
-    use rtcosim::processor::ProcessorKind;
-    use rtcosim::top::{Stall, Top};
+    use rtcosim::check::cosim::{self, CosimOptions};
+    use rtcosim::design::Design;
+    use rtcosim::campaign::mutation::{Judge, JudgeSpec, Stimulus};
+    use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::design::top::Stall;
     let spec = JudgeSpec {
         width: 16,
         height: 12,
         fuzz_seed: 1,
         fuzz_count: 4,
         unit_operands: 0,
-        timeout_cycles: rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES,
+        timeout_cycles: rtcosim::design::DEFAULT_TIMEOUT_CYCLES,
     };
     let options = CosimOptions::default();
-    let mut compact = PixelProcessor::new(Method::Exact, Method::Exact).expect("the processor");
-    let mut fast = Top::new_fast(Method::Exact, Method::Exact).expect("the fast processor");
-    for processor in [ProcessorKind::Compact, ProcessorKind::Fast] {
+    for processor in ProcessorKind::ALL {
+        let mut dut = Design::new(processor, Method::Exact, Method::Exact)
+            .open()
+            .expect("the processor");
         let judge = Judge::new(processor, spec).expect("the judge");
         let mut checked = 0;
         for check in &judge.checks {
@@ -696,22 +697,8 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
                 } => (scene, window, *stall),
                 _ => continue,
             };
-            let report = match processor {
-                ProcessorKind::Compact => {
-                    cosim::run_on(&mut compact, scene, *window, &options, &mut |_| {})
-                }
-                ProcessorKind::Fast => cosim::run_top_on(
-                    &mut fast,
-                    scene,
-                    *window,
-                    &options,
-                    &TopOptions {
-                        stall,
-                        ..TopOptions::fast()
-                    },
-                    &mut |_| {},
-                ),
-            }
+            let options = CosimOptions { stall, ..options };
+            let report = cosim::run_on(&mut dut, scene, *window, &options, &mut |_| {})
             .unwrap_or_else(|e| panic!("{processor}: {}: {e}", check.name));
             assert!(report.passed(), "{processor}: {} diverges", check.name);
             assert_eq!(

@@ -21,9 +21,12 @@ use golden::micro::isa::{self, state};
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use rtcosim::compare::DivergenceKind;
-use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport};
-use rtcosim::pixel_proc::{Fault, HangKind, PixelProcessor, PpError};
+use rtcosim::check::compare::DivergenceKind;
+use rtcosim::check::cosim::{self, CosimError, CosimOptions, CosimReport};
+use rtcosim::design::pixel_proc::PixelProcessor;
+use rtcosim::design::{Fault, HangKind, PpError};
+use rtcosim::design::Design;
+use rtcosim::design::processor::ProcessorKind;
 
 /// The method pairs every scene is co-simulated with.
 const METHODS: [(Method, Method); 2] =
@@ -43,7 +46,7 @@ fn builtin(name: &str, width: u32, height: u32) -> Scene {
 }
 
 fn cosim_all(scene: &Scene, window: Window) -> CosimReport {
-    cosim::run(scene, window, &CosimOptions::default(), &|_| {})
+    cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene, window, &CosimOptions::default(), &|_| {})
         .unwrap_or_else(|e| panic!("co-simulation failed: {e}"))
 }
 
@@ -120,7 +123,7 @@ fn overexposed_frame_agrees() {
         keep_frames: true,
         ..CosimOptions::default()
     };
-    let report = cosim::run(&scene, Window::full(&scene), &options, &|_| {}).expect("runs");
+    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, Window::full(&scene), &options, &|_| {}).expect("runs");
     let frames = report.frames.expect("kept");
     assert_eq!(frames.rtl.saturated_pixels(), 0);
     assert!(
@@ -267,7 +270,7 @@ fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
             }),
             ..CosimOptions::default()
         };
-        let report = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
+        let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
         let name = isa::state_name(fault_state).expect("named");
         let d = report
             .compare
@@ -293,8 +296,8 @@ fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
             "{report}"
         );
         let text = report.to_string();
-        let verilog = rtcosim::rtl_source::state_line(
-            rtcosim::processor::ProcessorKind::Compact,
+        let verilog = rtcosim::design::rtl_source::state_line(
+            rtcosim::design::processor::ProcessorKind::Compact,
             fault_state,
         )
         .expect("mapped");
@@ -326,7 +329,7 @@ fn full_reference_frame_agrees() {
 // ---------------------------------------------------------------------------
 
 fn loaded(scene: &Scene) -> PixelProcessor {
-    let mut pp = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model builds");
+    let mut pp = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model builds");
     pp.load_scene(scene).expect("scene loads");
     pp
 }
@@ -398,7 +401,7 @@ fn the_report_does_not_depend_on_the_thread_count() {
         let done = std::sync::atomic::AtomicU64::new(0);
         let report = pool
             .install(|| {
-                cosim::run(&scene, window, &options, &|n| {
+                cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|n| {
                     done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
                 })
             })
@@ -417,7 +420,7 @@ fn the_report_does_not_depend_on_the_thread_count() {
 #[test]
 fn a_pixel_outside_the_image_is_an_error() {
     let scene = builtin("reference", 40, 30);
-    let mut pp = PixelProcessor::new(Method::Exact, Method::Exact).expect("model builds");
+    let mut pp = PixelProcessor::open(&Design::compact(Method::Exact, Method::Exact)).expect("model builds");
     assert_eq!(pp.run_pixel(0, 0, None), Err(PpError::NoScene));
     pp.load_scene(&scene).expect("loads");
     for (x, y) in [(40, 0), (0, 30), (u32::MAX, u32::MAX)] {
@@ -445,7 +448,7 @@ fn a_pixel_outside_the_image_is_an_error() {
         Window::new(0, 0, 0, 5),
     ] {
         let err =
-            cosim::run(&scene, window, &CosimOptions::default(), &|_| {}).expect_err("outside");
+            cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &CosimOptions::default(), &|_| {}).expect_err("outside");
         assert!(matches!(err, CosimError::Window(_)), "{err}");
     }
 }
@@ -461,7 +464,7 @@ fn a_scene_with_other_methods_is_refused() {
     );
     for recip in Method::ALL {
         for sqrt in Method::ALL {
-            let mut pp = PixelProcessor::new(recip, sqrt).expect("every pair is built");
+            let mut pp = PixelProcessor::open(&Design::compact(recip, sqrt)).expect("every pair is built");
             assert_eq!(pp.methods(), (recip, sqrt));
             let other = with_methods(&exact, recip, sqrt);
             pp.load_scene(&other).expect("its own methods load");
@@ -511,7 +514,7 @@ fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
         "{text}"
     );
     assert_eq!(pp.run_pixel(7, 5, None), Err(PpError::Poisoned));
-    pp.set_timeout_cycles(rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES);
+    pp.set_timeout_cycles(rtcosim::design::DEFAULT_TIMEOUT_CYCLES);
     pp.load_scene(&scene).expect("a reset and a reload recover");
     pp.run_pixel(7, 5, None).expect("runs");
 
@@ -520,7 +523,7 @@ fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
         ..CosimOptions::default()
     };
     let window = Window::new(3, 2, 4, 4);
-    match cosim::run(&scene, window, &options, &|_| {}) {
+    match cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}) {
         Err(CosimError::Rtl(PpError::Hung { x, y, .. })) => {
             assert_eq!(x, window.x, "the first pixel of its row");
             assert!((window.y..window.y + window.height).contains(&y));
@@ -603,10 +606,10 @@ max_depth = 1
 /// that send a branch another way.
 #[test]
 fn the_golden_fault_is_the_rtl_fault_bit_for_bit() {
-    use rtcosim::compare::{compare_pixel, Tolerance};
+    use rtcosim::check::compare::{compare_pixel, Tolerance};
     let scene = builtin("reference", 40, 30);
     let window = Window::new(8, 6, 10, 8);
-    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model");
+    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model");
     rtl.load_scene(&scene).expect("loads");
     for fault in [
         Fault {
@@ -637,7 +640,7 @@ fn the_golden_fault_is_the_rtl_fault_bit_for_bit() {
                         "{fault:?}: {}",
                         v.first
                             .expect("diverged")
-                            .text(&rtcosim::compare::Labels::rtl_golden())
+                            .text(&rtcosim::check::compare::Labels::rtl_golden())
                     );
                 } else {
                     apart_from_clean += u64::from(v.diverged());
@@ -662,7 +665,7 @@ fn kept_frames_are_the_windows_colours() {
         keep_frames: true,
         ..CosimOptions::default()
     };
-    let report = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
+    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
     let frames = report.frames.expect("kept");
     let (full, _) = golden::micro::render(&scene, &|_| {});
     for frame in [&frames.rtl, &frames.golden] {
@@ -681,7 +684,7 @@ fn kept_frames_are_the_windows_colours() {
     );
 }
 
-/// The bare clock loop (harness/cpp/bare.h, the baseline of benches/
+/// The bare clock loop (harness/design/cpp/bare.h, the baseline of benches/
 /// overhead.rs) runs the same RTL cycles as golden predicts for each pixel,
 /// pixel by pixel as the driver does, and refuses pixels outside the image
 /// and a model without a scene.
@@ -689,7 +692,7 @@ fn kept_frames_are_the_windows_colours() {
 fn the_bare_clock_loop_runs_the_predicted_cycles() {
     let scene = builtin("mirror", 24, 18);
     let golden = golden::micro::Processor::new(&scene);
-    let mut rtl = PixelProcessor::new(scene.render.recip, scene.render.sqrt).expect("model");
+    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model");
     assert!(matches!(rtl.run_bare(&[(0, 0)]), Err(PpError::NoScene)));
     rtl.load_scene(&scene).expect("scene");
     let pixels: Vec<(u32, u32)> = Window::full(&scene).iter().collect();

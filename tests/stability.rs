@@ -9,7 +9,7 @@ mod ieee_edges;
 
 use golden::fp::Method;
 use ieee_edges::{acceptable, boundary_values, Edge, RECIP, SQRT};
-use rtcosim::fp_unit::{FpUnit, UnitError, UnitKind};
+use rtcosim::design::fp_unit::{FpUnit, UnitError, UnitKind};
 
 /// An operand, the IEEE answer and how a method may give it (if known),
 /// and why.

@@ -295,8 +295,8 @@ fn pp_ctrl_has_one_case_item_per_state_and_names_its_functions_after_golden() {
 /// function (the fast controller's decode of a state into its micro-op).
 #[test]
 fn every_state_maps_to_the_verilog_line_that_decodes_it() {
-    use rtcosim::processor::ProcessorKind;
-    use rtcosim::rtl_source::{controller, state_line};
+    use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::design::rtl_source::{controller, state_line};
     let table = table();
     // The fast controller plans no micro-op for IDLE: an idle context
     // issues nothing (the plan's default, a NOP that writes nothing), so no

@@ -15,8 +15,10 @@ use golden::scene::Scene;
 #[cfg(feature = "synth-netlist")]
 use golden::{fp::Method, micro::Fault, window::Window};
 #[cfg(feature = "synth-netlist")]
-use rtcosim::cosim::{self, CosimOptions, CosimReport};
-use rtcosim::pixel_proc::PixelProcessor;
+use rtcosim::check::cosim::{self, CosimOptions, CosimReport};
+use rtcosim::design::pixel_proc::PixelProcessor;
+use rtcosim::design::Design;
+use rtcosim::design::Flavour;
 
 /// Every builtin scene, with the exact methods (the netlist's).
 fn builtins_exact() -> Vec<(String, Scene)> {
@@ -39,12 +41,13 @@ fn builtins_exact() -> Vec<(String, Scene)> {
 #[cfg(not(feature = "synth-netlist"))]
 #[test]
 fn without_the_feature_the_netlist_is_a_clear_error() {
-    let e = PixelProcessor::new_synth()
+    let exact = golden::fp::Method::Exact;
+    let e = PixelProcessor::open(&Design::compact(exact, exact).flavour(Flavour::Synth))
         .err()
         .expect("no netlist was built");
     let text = e.to_string();
     assert!(
-        text.contains("no synthesized netlist was verilated")
+        text.contains("synthesized netlist model")
             && text.contains("--features synth-netlist"),
         "{text}"
     );
@@ -67,8 +70,9 @@ fn windows(scene: &Scene) -> [Window; 2] {
 /// Co-simulates `window` of `scene` on a fresh netlist model.
 #[cfg(feature = "synth-netlist")]
 fn run(scene: &Scene, window: Window, options: &CosimOptions) -> CosimReport {
-    let mut rtl = PixelProcessor::new_synth().expect("the netlist was built");
-    assert_eq!(rtl.methods(), (Method::Exact, Method::Exact));
+    let design = Design::compact(Method::Exact, Method::Exact).flavour(Flavour::Synth);
+    let mut rtl = design.open().expect("the netlist was built");
+    assert_eq!(rtl.design(), design);
     cosim::run_on(&mut rtl, scene, window, options, &mut |_| {}).expect("the run completes")
 }
 

@@ -14,10 +14,12 @@ use golden::micro::isa::state;
 use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::cosim::{self, CosimError, CosimOptions, TopOptions};
-use rtcosim::pixel_proc::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
-use rtcosim::top::{Source, Stall, Top};
+use rtcosim::check::cosim::{self, CosimError, CosimOptions};
+use rtcosim::design::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
+use rtcosim::design::top::{Source, Stall, Top};
 use std::collections::BTreeMap;
+use rtcosim::design::Design;
+use rtcosim::design::processor::ProcessorKind;
 
 fn builtin(name: &str, width: u32, height: u32) -> Scene {
     Scene::builtin(name)
@@ -28,7 +30,7 @@ fn builtin(name: &str, width: u32, height: u32) -> Scene {
 
 fn top(procs: u32, scene: &Scene) -> Top {
     let mut t =
-        Top::new(procs, scene.render.recip, scene.render.sqrt).unwrap_or_else(|e| panic!("{e}"));
+        Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(procs))).unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t
 }
@@ -114,7 +116,7 @@ fn the_report_through_the_top_is_the_bare_processors_for_any_n_and_threads() {
     let scene = builtin("mirror", 40, 30);
     let window = Window::new(3, 2, 30, 11);
     let options = CosimOptions::default();
-    let bare = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
+    let bare = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
     assert!(bare.passed(), "{bare}");
     let mut tops = BTreeMap::new();
     for procs in [1, 4] {
@@ -123,9 +125,9 @@ fn the_report_through_the_top_is_the_bare_processors_for_any_n_and_threads() {
                 .num_threads(threads)
                 .build()
                 .expect("a pool");
-            let top = TopOptions::compact(procs);
+            let top = Design::for_scene(ProcessorKind::Compact, &scene).procs(Some(procs));
             let r = pool
-                .install(|| cosim::run_top(&scene, window, &options, &top, &|_| {}))
+                .install(|| cosim::run(&top, &scene, window, &options, &|_| {}))
                 .unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(r.compare, bare.compare, "N = {procs}, {threads} threads");
             let t = r.top.expect("the top's report");
@@ -189,7 +191,7 @@ fn backpressure_on_the_result_stream_loses_and_duplicates_nothing() {
 #[test]
 fn bad_coordinates_and_scenes_are_refused_before_simulation() {
     let scene = builtin("reference", 40, 30);
-    let mut t = Top::new(4, scene.render.recip, scene.render.sqrt).expect("built");
+    let mut t = Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(4))).expect("built");
     assert_eq!(
         t.run_frame(Source::Stream(&[(1, 1)]), &mut |_| {})
             .unwrap_err(),
@@ -232,16 +234,16 @@ fn bad_coordinates_and_scenes_are_refused_before_simulation() {
 
     // A variant that was not built, and a window outside the image, in the
     // co-simulation.
-    let err = Top::new(3, scene.render.recip, scene.render.sqrt)
+    let err = Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(3)))
         .err()
         .expect("N = 3 is not built");
-    assert!(err.to_string().contains("3 processors"), "{err}");
-    let top = TopOptions::compact(4);
-    let r = cosim::run_top(
+    assert!(err.to_string().contains("top of 3"), "{err}");
+    let top = Design::for_scene(ProcessorKind::Compact, &scene).procs(Some(4));
+    let r = cosim::run(
+        &top,
         &scene,
         Window::new(30, 0, 11, 1),
         &CosimOptions::default(),
-        &top,
         &|_| panic!("a tile ran"),
     );
     assert!(matches!(r, Err(CosimError::Window(_))), "{r:?}");
@@ -312,7 +314,7 @@ fn a_hung_processor_trips_the_watchdog_with_its_name() {
         t.run_frame(Source::Stream(&stream), &mut |_| {}),
         Err(PpError::Poisoned)
     );
-    t.set_timeout_cycles(rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES);
+    t.set_timeout_cycles(rtcosim::design::DEFAULT_TIMEOUT_CYCLES);
     t.load_scene(&scene).expect("a reset and a reload recover");
     frame(&mut t, Source::Stream(&stream));
 }
@@ -330,9 +332,9 @@ fn the_fault_self_test_works_through_the_top() {
         }),
         ..CosimOptions::default()
     };
-    let bare = cosim::run(&scene, window, &options, &|_| {}).expect("runs");
-    let top = TopOptions::compact(4);
-    let through = cosim::run_top(&scene, window, &options, &top, &|_| {}).expect("runs");
+    let bare = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
+    let top = Design::for_scene(ProcessorKind::Compact, &scene).procs(Some(4));
+    let through = cosim::run(&top, &scene, window, &options, &|_| {}).expect("runs");
     assert!(!through.passed());
     assert_eq!(through.compare.counts.divergent_pixels, window.pixels());
     assert_eq!(through.compare, bare.compare);

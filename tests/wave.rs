@@ -1,4 +1,4 @@
-//! The waveform window (`rtcosim::wave`, `rtcosim cosim --wave K`): a fault
+//! The waveform window (`rtcosim::output::wave`, `rtcosim cosim --wave K`): a fault
 //! injected through the fault port makes the RTL diverge; the window of the
 //! first divergent pixel is read back with an independent FST reader
 //! (`fst-reader`) and checked against what the co-simulation reported and
@@ -13,15 +13,22 @@ use fst_reader::{FstFilter, FstHierarchyEntry, FstReader, FstSignalValue};
 use golden::micro::isa;
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::compare::Divergence;
-use rtcosim::cosim::{self, CosimOptions, TopOptions};
-use rtcosim::pixel_proc::Fault;
-use rtcosim::processor::ProcessorKind;
-use rtcosim::wave::{self, Replay, WaveError};
+use rtcosim::check::compare::Divergence;
+use rtcosim::check::cosim::{self, CosimOptions};
+use rtcosim::design::top::Stall;
+use rtcosim::design::Design;
+use rtcosim::design::Fault;
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::output::wave::{self, Replay, WaveError};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// The builtin reference scene at 40x30.
+/// The re-run of a compact processor's pixel: one pixel from reset.
+fn compact_replay(scene: &Scene) -> Replay {
+    Replay::pixel(&Design::for_scene(ProcessorKind::Compact, scene), 0, 0)
+}
+
 fn small_reference() -> Scene {
     Scene::builtin("reference")
         .expect("builtin reference")
@@ -43,7 +50,7 @@ fn first_divergence(scene: &Scene, fault: Fault) -> Divergence {
         fault: Some(fault),
         ..CosimOptions::default()
     };
-    let report = cosim::run(scene, Window::full(scene), &options, &|_| {})
+    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene, Window::full(scene), &options, &|_| {})
         .unwrap_or_else(|e| panic!("co-simulation failed: {e}"));
     report
         .compare
@@ -200,7 +207,7 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
         &d,
         k_big,
         &dir.join("all.fst"),
-        Replay::Compact,
+        compact_replay(&scene),
     )
     .unwrap_or_else(|e| panic!("{e}"));
     assert!(w.fst.is_file() && w.gtkw.is_file() && w.filter.is_file());
@@ -246,7 +253,7 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
             &d,
             k,
             &dir.join(format!("k{k}.fst")),
-            Replay::Compact,
+            compact_replay(&scene),
         )
         .unwrap_or_else(|e| panic!("{e}"));
         let fst = Fst::read(&w.fst);
@@ -266,7 +273,7 @@ fn a_window_spans_k_cycles_around_the_injected_fault() {
 fn the_save_file_shows_signals_of_the_fst_and_the_filter_names_states() {
     let (scene, fault, d) = pri_half();
     let dir = scratch("gtkw");
-    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 20, Replay::Compact)
+    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 20, compact_replay(&scene))
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(w.fst, dir.join("wave.fst"));
     let fst = Fst::read(&w.fst);
@@ -328,7 +335,7 @@ fn a_bad_path_is_a_clear_error() {
     let dir = scratch("bad-path");
     let missing = dir.join("no-such-dir").join("wave.fst");
     let e =
-        wave::write_divergence(&scene, Some(fault), &d, 5, &missing, Replay::Compact).unwrap_err();
+        wave::write_divergence(&scene, Some(fault), &d, 5, &missing, compact_replay(&scene)).unwrap_err();
     assert!(
         matches!(&e, WaveError::Io { path, .. } if *path == missing),
         "{e:?}"
@@ -338,7 +345,7 @@ fn a_bad_path_is_a_clear_error() {
         text.contains(&missing.display().to_string()) && text.contains("No such file"),
         "{text}"
     );
-    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir, Replay::Compact).unwrap_err();
+    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir, compact_replay(&scene)).unwrap_err();
     assert!(matches!(e, WaveError::NotAFile { .. }), "{e:?}");
     assert!(e.to_string().contains("not a file name"), "{e}");
 }
@@ -363,7 +370,7 @@ fn gtkwave_shows_the_state_names() {
     let fault: Fault = "SH_POINT:0x400".parse().expect("a fault");
     let d = first_divergence(&scene, fault);
     let dir = scratch("gtkwave");
-    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 3, Replay::Compact)
+    let w = wave::write_window_in(&dir, &scene, Some(fault), &d, 3, compact_replay(&scene))
         .unwrap_or_else(|e| panic!("{e}"));
     let st_q = format!(
         "TOP.pixel_processor.u_ctrl.st_q[{}:0]",
@@ -610,7 +617,7 @@ fn cosim_wave_refuses_bad_values_with_exit_2() {
     assert_eq!(std::fs::read_dir(&dir).expect("listing").count(), 0);
 }
 
-/// The fast processor's window (`Replay::Fast`): the divergent pixel's tile
+/// The fast processor's window (a streamed [`Replay`]): the divergent pixel's tile
 /// re-run on the fast processor verilated with --trace-fst, read back with
 /// the FST reader and held to the co-simulation's own account of the pixel
 /// (its RTL events, its cycles in the tile) and to the FST's signals: the
@@ -627,16 +634,15 @@ fn the_fast_processors_window_is_its_tile_re_run_around_the_divergence() {
         fault: Some(fault),
         ..CosimOptions::default()
     };
-    let report = cosim::run_top(&scene, window, &options, &TopOptions::fast(), &|_| {})
+    let fast = Design::for_scene(ProcessorKind::Fast, &scene);
+    let report = cosim::run(&fast, &scene, window, &options, &|_| {})
         .unwrap_or_else(|e| panic!("{e}"));
     let d = report.compare.first_divergence.expect("the fault diverged");
     let seq = d.seq().expect("an event diverged");
     let (rtl_event, _) = d.events();
     let rtl_event = rtl_event.expect("the RTL's divergent event");
-    let replay = Replay::of(Some(&TopOptions::fast()), window, d.y);
-    assert!(
-        matches!(replay, Replay::Fast { tile, .. } if tile.y <= d.y && d.y < tile.y + tile.height)
-    );
+    let replay = Replay::of(&fast, Stall::NONE, window, d.y);
+    assert!(replay.streamed() && replay.tile.y <= d.y && d.y < replay.tile.y + replay.tile.height);
     let dir = scratch("fast");
 
     let w = wave::write_divergence(

@@ -6,11 +6,11 @@ use clap::ValueEnum;
 use golden::fp::Method;
 use golden::scene::{Scene, MAX_IMAGE_SIDE};
 use golden::window::Window;
-use rtcosim::cosim::CosimOptions;
-use rtcosim::pixel_proc::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::check::cosim::CosimOptions;
+use rtcosim::design::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::scenes::{self, Overrides};
-use rtcosim::shard::Shard;
-use rtcosim::sweep::ConfirmOptions;
+use rtcosim::campaign::shard::Shard;
+use rtcosim::campaign::sweep::ConfirmOptions;
 use std::path::Path;
 
 /// The scene and what a command line may change in it.
@@ -94,7 +94,7 @@ impl RtlCheckArgs {
             cosim: CosimOptions {
                 fault: self.fault,
                 timeout_cycles: self.timeout_cycles,
-                keep_frames: false,
+                ..CosimOptions::default()
             },
         }
     }
@@ -253,7 +253,7 @@ impl CoverageArgs {
     /// is built.
     pub fn enable(&self) -> Result<()> {
         if let Some(dir) = &self.coverage {
-            rtcosim::coverage::enable(dir)
+            rtcosim::output::coverage::enable(dir)
                 .with_context(|| format!("--coverage {}", dir.display()))?;
         }
         Ok(())
@@ -264,11 +264,11 @@ impl CoverageArgs {
     pub fn finish(
         &self,
         out: &mut impl std::io::Write,
-    ) -> Result<Option<rtcosim::coverage::Summary>> {
+    ) -> Result<Option<rtcosim::output::coverage::Summary>> {
         let Some(dir) = &self.coverage else {
             return Ok(None);
         };
-        let done = rtcosim::coverage::finish(std::slice::from_ref(dir), dir, true)
+        let done = rtcosim::output::coverage::finish(std::slice::from_ref(dir), dir, true)
             .with_context(|| format!("--coverage {}", dir.display()))?;
         write!(out, "{}", done.report())?;
         Ok(Some(done.summary))

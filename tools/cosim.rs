@@ -6,18 +6,18 @@ use crate::args::{
     SceneArgs, ThreadsArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use golden::scene::Scene;
 use golden::micro::isa::state_label;
 use golden::window::Window;
-use rtcosim::artefacts;
-use rtcosim::cosim::{self, CosimError, CosimOptions, CosimReport, TopOptions};
-use rtcosim::pixel_proc::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
-use rtcosim::processor::ProcessorKind;
-use rtcosim::top::{Stall, FAST_CONTEXTS};
-use rtcosim::wave::Replay;
+use rtcosim::output::artefacts;
+use rtcosim::check::cosim::{self, CosimError, CosimOptions, CosimReport};
+use rtcosim::design::Design;
+use rtcosim::design::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::top::Stall;
+use rtcosim::output::wave::Replay;
 
-/// The largest top of compact processors build.rs verilates on request.
-const MAX_COMPACT_PROCS: u32 = 8;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -50,12 +50,12 @@ pub struct CosimArgs {
     /// one bare pixel processor per thread: tiles of the window are streamed
     /// through one top per thread, and the report adds the top's frame
     /// cycles and its dispatcher's idle share. Compact: N = 1 and 4 with
-    /// the exact methods are always built; others with
-    /// RTCOSIM_TOPS=N[:recip:sqrt],... set for the build (e.g.
+    /// the exact methods are built with the cargo feature `tops`; others
+    /// with RTCOSIM_TOPS=N[:recip:sqrt],... set for the build (e.g.
     /// RTCOSIM_TOPS=2,8), N up to 8. Fast (--processor fast): N = 2 exact
-    /// is built, others with RTCOSIM_TOPS=fast:N[:recip:sqrt], N up to 64;
-    /// each pixel's cycles and the frame's are the top's rule's
-    /// (golden::micro::barrel::run_top).
+    /// with `tops` and `fast`, others with RTCOSIM_TOPS=fast:N[:recip:sqrt],
+    /// N up to 64; each pixel's cycles and the frame's are the top's
+    /// rule's (golden::micro::barrel::run_top).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
     pub procs: Option<u32>,
     /// With --procs: hold the top's result stream back (out_ready low) in
@@ -114,6 +114,60 @@ pub struct CosimArgs {
     pub coverage: CoverageArgs,
 }
 
+impl CosimArgs {
+    /// The design the flags name, with the scene's methods; refused with
+    /// the flag to change where no build makes it.
+    fn design(&self, scene: &Scene) -> Result<Design> {
+        let design = Design::for_scene(self.processor, scene)
+            .procs(self.procs)
+            .exp_unit(!self.no_exp_unit);
+        if let Some(why) = design.refusal() {
+            let flags = match (self.procs, self.no_exp_unit) {
+                (Some(n), true) => format!("--procs {n} --no-exp-unit"),
+                (Some(n), false) => format!("--procs {n}"),
+                (None, true) => "--no-exp-unit".into(),
+                (None, false) => format!("--processor {}", self.processor),
+            };
+            bail!("{flags}: {design}: {why}");
+        }
+        if let Some(exposure) = scene.render.exposure.filter(|_| !design.exp_unit) {
+            bail!(
+                "--no-exp-unit: scene {} sets an exposure (render.exposure = {exposure}), which \
+                 the {} processor without its exponential cannot draw; drop --no-exp-unit",
+                self.scene.scene,
+                design.processor
+            );
+        }
+        if self.stall > 0 && !design.has_result_stream() {
+            bail!(
+                "--stall holds back a result stream, which the {design} does not have: it needs \
+                 --procs or a processor with streams (--processor fast)"
+            );
+        }
+        if self.stall_burst > 1 && self.stall == 0 {
+            bail!(
+                "--stall-burst {} sets how long each stall lasts: it needs --stall PERCENT",
+                self.stall_burst
+            );
+        }
+        if self.coverage.coverage.is_some() && self.procs.is_some() {
+            bail!(
+                "--coverage measures a pixel processor alone (the compact one, or --processor \
+                 fast); the top of --procs has no coverage model: drop one of them"
+            );
+        }
+        design.check().map_err(|e| anyhow::anyhow!("{e}"))?;
+        Ok(design)
+    }
+
+    fn stall(&self) -> Stall {
+        Stall {
+            percent: self.stall,
+            burst: self.stall_burst,
+        }
+    }
+}
+
 /// Returns whether the RTL agreed with golden everywhere.
 pub fn run(args: CosimArgs) -> Result<bool> {
     let scene = args.scene.load()?;
@@ -124,53 +178,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         check_window("--trace-window", trace_window, &scene)?;
         check_parent_dir("--trace", path)?;
     }
-    let fast = args.processor == ProcessorKind::Fast;
-    if let Some(n) = args.procs.filter(|&n| !fast && n > MAX_COMPACT_PROCS) {
-        anyhow::bail!(
-            "--procs {n}: a top of compact processors has at most {MAX_COMPACT_PROCS} (the \
-             fast processor's top goes to 64: --processor fast)"
-        );
-    }
-    if args.no_exp_unit {
-        if !fast {
-            anyhow::bail!(
-                "--no-exp-unit builds the fast processor without its exponential: it needs \
-                 --processor fast (the compact processor always has one)"
-            );
-        }
-        if args.procs.is_some() {
-            anyhow::bail!(
-                "--no-exp-unit: the tops of fast processors are verilated with the exponential \
-                 only; drop --procs to co-simulate one processor without it"
-            );
-        }
-        if let Some(exposure) = scene.render.exposure {
-            anyhow::bail!(
-                "--no-exp-unit: scene {} sets an exposure (render.exposure = {exposure}), which \
-                 the fast processor without its exponential cannot draw; drop --no-exp-unit",
-                args.scene.scene
-            );
-        }
-    }
-    if args.stall > 0 && args.procs.is_none() && !fast {
-        anyhow::bail!("--stall holds back a result stream: it needs --procs or --processor fast");
-    }
-    if args.stall_burst > 1 && args.stall == 0 {
-        anyhow::bail!(
-            "--stall-burst {} sets how long each stall lasts: it needs --stall PERCENT",
-            args.stall_burst
-        );
-    }
-    let stall = Stall {
-        percent: args.stall,
-        burst: args.stall_burst,
-    };
-    if args.coverage.coverage.is_some() && args.procs.is_some() {
-        anyhow::bail!(
-            "--coverage measures a pixel processor run bare (the compact one, or --processor \
-             fast); the top of --procs has no coverage model: drop one of them"
-        );
-    }
+    let design = args.design(&scene)?;
     args.coverage.enable()?;
     args.wave.check(args.out.as_deref())?;
     // Fail before a long run, not after it.
@@ -179,61 +187,14 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     }
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
-    let (w, h) = (scene.camera.width, scene.camera.height);
     let mut out = std::io::stdout().lock();
-    writeln!(
-        out,
-        "rtcosim cosim: {} processor{}, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), \
-         window {window} ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
-        args.processor,
-        if args.no_exp_unit {
-            " without its exponential"
-        } else {
-            ""
-        },
-        args.scene.scene,
-        scene.render.max_depth,
-        scene.render_hash(),
-        window.pixels(),
-        plural(window.pixels()),
-        scene.render.recip,
-        scene.render.sqrt,
-        plural(threads as u64),
-        match (args.procs, args.stall) {
-            (Some(n), _) => format!(
-                ", through the top with {n} processor{}{}",
-                plural(u64::from(n)),
-                if fast {
-                    format!(" of {FAST_CONTEXTS} contexts")
-                } else {
-                    String::new()
-                }
-            ),
-            (None, _) if fast => format!(", {FAST_CONTEXTS} contexts"),
-            _ => String::new(),
-        } + &if stall.stalls() {
-            format!(" (result stream {stall})")
-        } else {
-            String::new()
-        },
-        rtcosim::VERILATOR_VERSION
-    )?;
-    if let Some(fault) = args.fault {
-        writeln!(
-            out,
-            "self-test: lane x of every RTL register write in state {} is XORed with {:#010x}; \
-             the run must fail",
-            state_label(fault.state),
-            fault.xor
-        )?;
-    }
-    writeln!(out)?;
-    out.flush()?;
+    print_header(&mut out, &args, &scene, &design, window, threads)?;
     let options = CosimOptions {
         fault: args.fault,
         timeout_cycles: args.timeout_cycles,
         // Always: the saturation warning reads golden's frame.
         keep_frames: true,
+        stall: args.stall(),
     };
     let bar = progress_bar(
         window.pixels(),
@@ -241,21 +202,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         "{percent:>3}% {pos}/{len} pixels ({per_sec}, {eta})",
     )?;
     let start = Instant::now();
-    let top = match (args.processor, args.procs) {
-        (ProcessorKind::Fast, Some(procs)) => Some(TopOptions::fast_top(procs)),
-        (ProcessorKind::Fast, None) => Some(TopOptions::fast()),
-        (ProcessorKind::Compact, Some(procs)) => Some(TopOptions::compact(procs)),
-        (ProcessorKind::Compact, None) => None,
-    }
-    .map(|t| TopOptions {
-        stall,
-        exp_unit: !args.no_exp_unit,
-        ..t
-    });
-    let result = pool.install(|| match &top {
-        Some(top) => cosim::run_top(&scene, window, &options, top, &|n| bar.inc(n)),
-        None => cosim::run(&scene, window, &options, &|n| bar.inc(n)),
-    });
+    let result = pool.install(|| cosim::run(&design, &scene, window, &options, &|n| bar.inc(n)));
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let report = result.map_err(|e| {
@@ -296,12 +243,14 @@ pub fn run(args: CosimArgs) -> Result<bool> {
         writeln!(out, "wrote {}: {}", dir.display(), names.join(", "))?;
     }
     if let Some(path) = &args.trace {
+        // The processor alone, fed the window in tiles.
+        let alone = design.procs(None);
         write_trace(&mut out, path, trace_window, |progress| {
-            rtcosim::trace_files::write_rtl(
+            rtcosim::check::trace_files::write_rtl(
                 &scene,
                 &args.scene.scene,
                 trace_window,
-                (args.processor, !args.no_exp_unit),
+                &alone,
                 args.fault,
                 args.timeout_cycles,
                 path,
@@ -311,9 +260,71 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     }
     args.wave
         .write(&mut out, &scene, &report, args.out.as_deref(), |y| {
-            Replay::of(top.as_ref(), window, y)
+            Replay::of(&design, args.stall(), window, y)
         })?;
     Ok(report.passed())
+}
+
+/// The run's first line: what runs on what.
+fn print_header(
+    out: &mut impl Write,
+    args: &CosimArgs,
+    scene: &Scene,
+    design: &Design,
+    window: Window,
+    threads: usize,
+) -> std::io::Result<()> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let contexts = design.row().contexts;
+    let stall = args.stall();
+    writeln!(
+        out,
+        "rtcosim cosim: {} processor{}, scene {} ({w}x{h}, stack depth {}, scene hash {:016x}), \
+         window {window} ({} pixel{}), recip {}, sqrt {}, {threads} thread{}{}, {}",
+        design.processor,
+        if design.exp_unit {
+            ""
+        } else {
+            " without its exponential"
+        },
+        args.scene.scene,
+        scene.render.max_depth,
+        scene.render_hash(),
+        window.pixels(),
+        plural(window.pixels()),
+        scene.render.recip,
+        scene.render.sqrt,
+        plural(threads as u64),
+        match design.procs {
+            Some(n) => format!(
+                ", through the top with {n} processor{}{}",
+                plural(u64::from(n)),
+                if contexts > 1 {
+                    format!(" of {contexts} contexts")
+                } else {
+                    String::new()
+                }
+            ),
+            None if contexts > 1 => format!(", {contexts} contexts"),
+            None => String::new(),
+        } + &if stall.stalls() {
+            format!(" (result stream {stall})")
+        } else {
+            String::new()
+        },
+        rtcosim::VERILATOR_VERSION
+    )?;
+    if let Some(fault) = args.fault {
+        writeln!(
+            out,
+            "self-test: lane x of every RTL register write in state {} is XORed with {:#010x}; \
+             the run must fail",
+            state_label(fault.state),
+            fault.xor
+        )?;
+    }
+    writeln!(out)?;
+    out.flush()
 }
 
 /// The report, cycles per pixel, speed and the verdict.
@@ -332,13 +343,17 @@ fn print_report(
         per_pixel(c.a_cycles),
         per_pixel(c.b_cycles)
     )?;
+    // The clock cycles simulated: the tiles' frame cycles (one pixel at a
+    // time, the pixels' cycles back to back), not a sum of latencies.
+    let frame_cycles = r.stats.frame_cycles;
     writeln!(
         out,
-        "{} pixel{} in {seconds:.2} s: {:.0} pixels/s, {:.2} M RTL cycles/s ({threads} thread{})",
+        "{} pixel{} in {seconds:.2} s: {:.0} pixels/s, {:.2} M simulated cycles/s ({frame_cycles} \
+         frame cycles; {threads} thread{})",
         c.pixels,
         plural(c.pixels),
         c.pixels as f64 / seconds.max(1e-9),
-        c.a_cycles as f64 / seconds.max(1e-9) / 1e6,
+        frame_cycles as f64 / seconds.max(1e-9) / 1e6,
         plural(threads as u64)
     )?;
     writeln!(out)?;

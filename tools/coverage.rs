@@ -3,7 +3,7 @@
 //! test --features coverage`) merged into one report.
 
 use anyhow::{Context, Result};
-use rtcosim::coverage;
+use rtcosim::output::coverage;
 use std::io::Write;
 use std::path::PathBuf;
 

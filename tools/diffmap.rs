@@ -11,7 +11,9 @@ use golden::diffmap::DiffMap;
 use golden::frame::Frame;
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::cosim::{self, CosimOptions};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::Design;
+use rtcosim::check::cosim::{self, CosimOptions};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -303,7 +305,10 @@ fn render(
                 ..Default::default()
             };
             let report =
-                pool.install(|| cosim::run(scene, Window::full(scene), &options, &progress))?;
+                pool.install(|| {
+                    let design = Design::for_scene(ProcessorKind::Compact, scene);
+                    cosim::run(&design, scene, Window::full(scene), &options, &progress)
+                })?;
             bar.finish_and_clear();
             writeln!(
                 out,

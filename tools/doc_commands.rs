@@ -295,8 +295,10 @@ fn check(found: &Found) -> Option<String> {
 
 fn documents() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut docs: Vec<PathBuf> = std::fs::read_dir(root.join("docs"))
-        .expect("docs/")
+    // docs/*.md and the command pages, docs/cli/*.md.
+    let mut docs: Vec<PathBuf> = ["docs", "docs/cli"]
+        .iter()
+        .flat_map(|dir| std::fs::read_dir(root.join(dir)).expect("a docs folder"))
         .map(|e| e.expect("a docs/ entry").path())
         .filter(|p| p.extension().is_some_and(|e| e == "md"))
         .collect();

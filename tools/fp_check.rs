@@ -6,8 +6,8 @@ use crate::ui::{plural, progress_bar};
 use anyhow::Result;
 use clap::ValueEnum;
 use golden::fp::Method;
-use rtcosim::fp_check::{self, CheckReport, Operands};
-use rtcosim::fp_unit::UnitKind;
+use rtcosim::check::fp_check::{self, CheckReport, Operands};
+use rtcosim::design::fp_unit::UnitKind;
 use std::io::Write;
 
 #[derive(clap::Args, Debug)]

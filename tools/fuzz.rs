@@ -5,12 +5,12 @@ use crate::args::{parse_cycles, parse_fault, CoverageArgs, ShardArgs, ThreadsArg
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
-use rtcosim::fuzz::summary::{self, Campaign, Summary};
-use rtcosim::fuzz::{self, FuzzOptions};
-use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
-use rtcosim::processor::ProcessorKind;
-use rtcosim::shard::file::{self as shard_file, ShardFile};
-use rtcosim::shard::Shard;
+use rtcosim::campaign::fuzz::summary::{self, Campaign, Summary};
+use rtcosim::campaign::fuzz::{self, FuzzOptions};
+use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
+use rtcosim::campaign::shard::Shard;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,11 +96,11 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
             ", shard {s} ({} scenes)",
             indices.len()
         )),
-        // The default, the compact processor, goes unnamed.
-        if args.processor == ProcessorKind::Fast {
-            ", fast processor"
+        // The default processor goes unnamed.
+        if args.processor == ProcessorKind::default() {
+            String::new()
         } else {
-            ""
+            format!(", {} processor", args.processor)
         },
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION

@@ -4,10 +4,10 @@
 use crate::args::ThreadsArgs;
 use crate::ui::plural;
 use anyhow::{Context, Result};
-use rtcosim::fuzz::summary::{self, Summary};
-use rtcosim::mutation;
-use rtcosim::shard::file::{self as shard_file, ShardFile, ShardSet};
-use rtcosim::sweep::run::{self, RunConfig, ShardResult};
+use rtcosim::campaign::fuzz::summary::{self, Summary};
+use rtcosim::campaign::mutation;
+use rtcosim::campaign::shard::file::{self as shard_file, ShardFile, ShardSet};
+use rtcosim::campaign::sweep::run::{self, RunConfig, ShardResult};
 use serde::de::DeserializeOwned;
 use serde_json::Value;
 use std::io::Write;

@@ -4,12 +4,12 @@
 use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
-use rtcosim::mutation::{self, Campaign, Judge, JudgeSpec, List, Outcome, Summary};
-use rtcosim::pixel_proc::DEFAULT_TIMEOUT_CYCLES;
-use rtcosim::processor::ProcessorKind;
-use rtcosim::shard::file::{self as shard_file, ShardFile};
-use rtcosim::shard::journal::Journal;
-use rtcosim::shard::Shard;
+use rtcosim::campaign::mutation::{self, Campaign, Judge, JudgeSpec, List, Outcome, Summary};
+use rtcosim::design::DEFAULT_TIMEOUT_CYCLES;
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
+use rtcosim::campaign::shard::journal::Journal;
+use rtcosim::campaign::shard::Shard;
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -172,16 +172,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         plural(threads as u64),
         rtcosim::VERILATOR_VERSION
     )?;
-    let last = match args.processor {
-        ProcessorKind::Compact => format!(
-            "the reference's middle pixel reset after each of its first {} cycles; ",
-            mutation::RESET_CUTS
-        ),
-        ProcessorKind::Fast => format!(
-            "the reference with its results (out_ready low) {}; ",
-            mutation::STALLS
-        ),
-    };
+    let last = mutation::last_check(args.processor);
     let units = format!(
         "for a mutant a float unit may carry, its edge cases and {} random operands through each of the {} units \
          ({} operands); {last}",

@@ -12,7 +12,7 @@ use golden::micro::Fault;
 use golden::micro::{FrameStats, OpClass};
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::processor::ProcessorKind;
+use rtcosim::design::processor::ProcessorKind;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -151,7 +151,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     if let Some((path, window)) = trace {
         write_trace(&mut out, path, window, |progress| {
-            rtcosim::trace_files::write_golden(
+            rtcosim::check::trace_files::write_golden(
                 &scene,
                 &args.scene.scene,
                 window,

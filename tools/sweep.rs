@@ -4,12 +4,12 @@ use crate::args::{parse_cutoff, parse_size, RtlCheckArgs, ShardArgs, Size, Threa
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
-use rtcosim::processor::ProcessorKind;
+use rtcosim::design::processor::ProcessorKind;
 use rtcosim::scenes::{self, Overrides};
-use rtcosim::shard::file::{self as shard_file, ShardFile};
-use rtcosim::shard::Shard;
-use rtcosim::sweep::run::{self, NamedScene, RunConfig, ShardResult};
-use rtcosim::sweep::{self, chart, Axis, Row, SceneSweep, ECP5_CLOCK_HZ};
+use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
+use rtcosim::campaign::shard::Shard;
+use rtcosim::campaign::sweep::run::{self, NamedScene, RunConfig, ShardResult};
+use rtcosim::campaign::sweep::{self, chart, Axis, Row, SceneSweep, ECP5_CLOCK_HZ};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -238,7 +238,7 @@ fn print_scene(out: &mut impl Write, s: &SceneSweep, clock_mhz: f64, rtl: bool) 
         out,
         "device frames/s: one {} filled with processors of the row's build at its clock \
          estimate (rtl/synth/costs.toml); one processor's at {clock_mhz} MHz, {}",
-        rtcosim::device::Device::LX760.name,
+        rtcosim::output::device::Device::LX760.name,
         sweep::clock_source(clock_mhz)
     )?;
     writeln!(

@@ -7,7 +7,7 @@ use crate::render::Model;
 use clap::CommandFactory;
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::pixel_proc::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use std::path::PathBuf;
 
 #[test]

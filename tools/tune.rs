@@ -1,5 +1,5 @@
 //! `rtcosim tune`: the cheapest configuration that renders a scene within
-//! an error target by a chosen cost (harness/tune.rs), why, the build it
+//! an error target by a chosen cost (harness/campaign/tune.rs), why, the build it
 //! runs on co-simulated before it is recommended, and with --area the
 //! register file it needs against the full build's.
 
@@ -8,12 +8,12 @@ use crate::ui::{progress_bar, progress_spinner};
 use anyhow::{Context, Result};
 use golden::fp::Method;
 use golden::scene::MAX_DEPTH;
-use rtcosim::area::{self, FloatUnit, UnitArea, Yosys};
-use rtcosim::compare::CompareReport;
-use rtcosim::device::{CostTable, BUILT_STACK_DEPTH};
-use rtcosim::processor::ProcessorKind;
-use rtcosim::sweep::{Config, Row, RtlCheck, CUTOFFS};
-use rtcosim::tune::{self, Cost, Measure, Tuned};
+use rtcosim::output::area::{self, FloatUnit, UnitArea, Yosys};
+use rtcosim::check::compare::CompareReport;
+use rtcosim::output::device::{CostTable, BUILT_STACK_DEPTH};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::campaign::sweep::{Config, Row, RtlCheck, CUTOFFS};
+use rtcosim::campaign::tune::{self, Cost, Measure, Tuned};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -79,7 +79,7 @@ struct Answer<'a> {
     pick: Option<&'a Row>,
     full: Option<&'a Row>,
     build: Option<String>,
-    build_cost: Option<&'a rtcosim::device::Cost>,
+    build_cost: Option<&'a rtcosim::output::device::Cost>,
     rtl: Option<RtlAnswer>,
 }
 
@@ -321,17 +321,16 @@ fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
             )?;
         }
     }
-    let flipped = |p: ProcessorKind| match p {
-        ProcessorKind::Compact => ProcessorKind::Fast,
-        ProcessorKind::Fast => ProcessorKind::Compact,
-    };
-    if let Some(r) = t.neighbour(|x| x.processor = flipped(x.processor)) {
-        writeln!(
-            out,
-            "  the same on the {} processor (the same image): {}",
-            r.processor,
-            line(r)
-        )?;
+    // The nearest configuration on each other processor.
+    for other in ProcessorKind::ALL.into_iter().filter(|&k| k != best.processor) {
+        if let Some(r) = t.neighbour(|x| x.processor = other) {
+            writeln!(
+                out,
+                "  the same on the {} processor (the same image): {}",
+                r.processor,
+                line(r)
+            )?;
+        }
     }
     if let Some(r) = t.best_cheaper() {
         writeln!(
@@ -362,7 +361,7 @@ fn rtl_build(
     out: &mut impl Write,
     c: &Config,
     check: &RtlCheck,
-    cost: &rtcosim::device::Cost,
+    cost: &rtcosim::output::device::Cost,
 ) -> Result<()> {
     writeln!(out, "RTL build: {}", check.build.instance())?;
     writeln!(
@@ -403,7 +402,7 @@ fn rtl_check(
     out: &mut impl Write,
     check: &RtlCheck,
     report: &CompareReport,
-    options: &rtcosim::sweep::ConfirmOptions,
+    options: &rtcosim::campaign::sweep::ConfirmOptions,
 ) -> Result<bool> {
     let n = report.counts.pixels;
     let drawn = n.saturating_sub(check.differing);
@@ -430,10 +429,12 @@ fn rtl_check(
 }
 
 fn area(out: &mut impl Write, tuned: &Config) -> Result<()> {
-    if tuned.processor != ProcessorKind::Compact {
+    if tuned.processor != ProcessorKind::default() {
         writeln!(
             out,
-            "area: the fast processor's build is priced by the cost table above; --area's yosys measurements are of the compact processor's register file and float units"
+            "area: the {} processor's build is priced by the cost table above; --area's yosys measurements are of the {} processor's register file and float units",
+            tuned.processor,
+            ProcessorKind::default()
         )?;
         return Ok(());
     }

@@ -1,12 +1,12 @@
 //! `rtcosim cosim --wave K`: after the report, the first divergent pixel
 //! re-run on the traced model and written as an FST window
-//! (`rtcosim::wave`).
+//! (`rtcosim::output::wave`).
 
 use anyhow::{Context, Result};
 use golden::scene::Scene;
-use rtcosim::cosim::CosimReport;
-use rtcosim::pixel_proc::parse_number;
-use rtcosim::wave::{self, DivergenceAt, Replay, WaveWindow};
+use rtcosim::check::cosim::CosimReport;
+use rtcosim::design::parse_number;
+use rtcosim::output::wave::{self, DivergenceAt, Replay, WaveWindow};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -101,17 +101,20 @@ impl WaveArgs {
              (cycle c starts at c ns) in {}\n  with {} and {}\n  open it: {}",
             w.x,
             w.y,
-            match w.replay {
-                Replay::Compact => String::new(),
-                Replay::Fast { tile, exp_unit, .. } => format!(
-                    " of the fast processor{}, fed tile {tile} from reset (cycles from its first \
+            if w.replay.streamed() {
+                format!(
+                    " of the {} processor{}, fed tile {} from reset (cycles from its first \
                      take)",
-                    if exp_unit {
+                    w.replay.processor(),
+                    if w.replay.design.exp_unit {
                         ""
                     } else {
                         " without its exponential"
-                    }
-                ),
+                    },
+                    w.replay.tile
+                )
+            } else {
+                String::new()
             },
             w.first_cycle,
             w.last_cycle,

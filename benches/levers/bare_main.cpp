@@ -1,4 +1,4 @@
-// The bare clock loop (harness/cpp/bare.h) as a program of its own, for
+// The bare clock loop (harness/design/cpp/bare.h) as a program of its own, for
 // trying Verilator's and the C++ compiler's speed levers on the pixel
 // processor without the harness (benches/levers/levers.sh builds it once
 // per lever with `verilator --exe --build`).

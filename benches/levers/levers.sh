@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Verilator's and the C++ compiler's speed levers on the pixel processor
 # (docs/perf.md, "Verilator's speed levers"), measured in one run with the
-# bare clock loop (bare_main.cpp, harness/cpp/bare.h) on the same pixels:
+# bare clock loop (bare_main.cpp, harness/design/cpp/bare.h) on the same pixels:
 # every lever is built first, then each round runs every build in turn, so
 # a drift of the shared machine's speed spreads over all of them. Prints a
 # table of each lever's median M RTL cycles/s and its speed against the
@@ -80,7 +80,7 @@ build() {
     { "$verilator" --cc --exe $vflags --no-timing -Wno-fatal \
         --top-module pixel_processor --prefix Vpp -Mdir "$dir" \
         -Irtl/pp -Irtl/fp -DPP_TRACE -GRECIP_METHOD=0 -GSQRT_METHOD=0 \
-        -CFLAGS "-std=c++17 -I$PWD/harness/cpp $cflags" "${extra[@]}" \
+        -CFLAGS "-std=c++17 -I$PWD/harness/design/cpp $cflags" "${extra[@]}" \
         rtl/pp/*.v rtl/fp/*.v "$PWD/benches/levers/bare_main.cpp" &&
         make -s -j 2 -C "$dir" -f Vpp.mk "OPT_FAST=$fast" "OPT_SLOW=$slow" "OPT_GLOBAL=-O2"; } \
         >"$dir.log" 2>&1 || { echo "$0: building $name failed, see $dir.log" >&2; exit 1; }

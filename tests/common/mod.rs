@@ -230,8 +230,8 @@ pub fn tune_pick(stdout: &str, scene: &Scene) -> golden::scene::RenderSettings {
 }
 
 /// The processor of `rtcosim tune`'s pick, by its RTL build line's module.
-pub fn tune_processor(stdout: &str) -> rtcosim::processor::ProcessorKind {
-    use rtcosim::processor::ProcessorKind;
+pub fn tune_processor(stdout: &str) -> rtcosim::design::processor::ProcessorKind {
+    use rtcosim::design::processor::ProcessorKind;
     match field(stdout, "RTL build: ").split(' ').next() {
         Some("pixel_processor") => ProcessorKind::Compact,
         Some("fast_pp") => ProcessorKind::Fast,
