@@ -113,7 +113,8 @@ fn run_way(
 /// The compact processor's one-pixel driver, which the ways but `cosim`
 /// drive directly.
 fn one_pixel(dut: &mut Dut) -> Result<&mut PixelProcessor> {
-    dut.one_pixel().context("the compact processor is driven one pixel at a time")
+    dut.one_pixel()
+        .context("the compact processor is driven one pixel at a time")
 }
 
 fn main() -> Result<()> {

@@ -6,7 +6,6 @@ use std::collections::BTreeSet;
 use std::fs;
 use std::path::Path;
 
-
 /// The controller's possible transitions (rtl/cover/transitions.sh), from
 /// which the coverage build's cover points are made.
 pub(crate) const TRANSITIONS: &str = "rtl/cover/pp_ctrl.transitions";
@@ -83,7 +82,11 @@ pub(crate) const FAST_CTRL_COVER: CoverModule = CoverModule {
 /// and the lcov report count each state and transition on the line that
 /// names it. A table made from another controller than today's is
 /// refused.
-pub(crate) fn write_cover_module(manifest: &Path, m: &CoverModule, out: &Path) -> Result<(), String> {
+pub(crate) fn write_cover_module(
+    manifest: &Path,
+    m: &CoverModule,
+    out: &Path,
+) -> Result<(), String> {
     let isa = "rtl/pp/isa.vh";
     let isa_text =
         fs::read_to_string(manifest.join(isa)).map_err(|e| format!("reading {isa}: {e}"))?;
@@ -163,4 +166,3 @@ pub(crate) fn write_cover_module(manifest: &Path, m: &CoverModule, out: &Path) -
     text += "endmodule\n`default_nettype wire\n";
     fs::write(out, text).map_err(|e| format!("writing {}: {e}", out.display()))
 }
-

@@ -38,7 +38,10 @@ pub(crate) fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
 /// item's `` `ISA_ST_<NAME> `` labels), so that reports can name the
 /// Verilog line that decodes a state. A `case` that cannot be found is an
 /// error.
-pub(crate) fn write_state_lines(controllers: &[(&Path, &str, &str)], out: &Path) -> Result<(), String> {
+pub(crate) fn write_state_lines(
+    controllers: &[(&Path, &str, &str)],
+    out: &Path,
+) -> Result<(), String> {
     let mut code = String::new();
     for &(file, head, name) in controllers {
         let items = state_lines(file, head)?;
@@ -93,7 +96,10 @@ pub(crate) fn verilog_sources(dirs: &[&Path]) -> Result<Vec<PathBuf>, String> {
 
 /// The files of `dirs` that `keep`, sorted per directory, directory by
 /// directory.
-pub(crate) fn files_in(dirs: &[&Path], keep: impl Fn(&Path) -> bool) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn files_in(
+    dirs: &[&Path],
+    keep: impl Fn(&Path) -> bool,
+) -> Result<Vec<PathBuf>, String> {
     let mut all = Vec::new();
     for dir in dirs {
         let mut files: Vec<PathBuf> = fs::read_dir(dir)

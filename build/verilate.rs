@@ -138,4 +138,3 @@ pub(crate) fn verilate(v: &Verilator, m: &Job, out: &Path) -> Result<Vec<CppFile
     }
     Ok(files)
 }
-

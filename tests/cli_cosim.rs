@@ -520,7 +520,12 @@ fn the_top_with_four_processors_agrees_and_reports_its_cycles() {
 
     let out = rtcosim(&["cosim", "--size", "40x30", "--procs", "3"]);
     assert_eq!(out.status.code(), Some(2), "{}", both(&out));
-    assert!(text(&out.stderr).contains("3 processors"), "{}", both(&out));
+    assert!(
+        text(&out.stderr).contains("top of 3 compact pixel processors")
+            && text(&out.stderr).contains("RTCOSIM_TOPS=3:exact:exact cargo build --release"),
+        "{}",
+        both(&out)
+    );
 }
 
 /// The cycles golden::micro predicts for the pixels of `window` (x0, y0,
@@ -660,7 +665,9 @@ fn bad_stall_values_are_refused_with_exit_2() {
         ),
         (
             &["--stall", "50"],
-            "--stall holds back a result stream: it needs --procs or --processor fast",
+            "--stall holds back a result stream, which the compact pixel processor (recip \
+             exact, sqrt exact) does not have: it needs --procs or a processor with streams \
+             (--processor fast)",
         ),
         (
             &["--procs", "4", "--stall", "50", "--stall-burst", "0"],
@@ -790,7 +797,7 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
         ),
         (
             &["--procs", "9"],
-            "--procs 9: a top of compact processors has at most 8",
+            "--procs 9: top of 9 compact pixel processors (recip exact, sqrt exact): a top of compact processors has 1 to 8 of them",
         ),
         (
             &["--processor", "fast", "--procs", "65"],

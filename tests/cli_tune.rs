@@ -14,8 +14,8 @@ mod common;
 use common::{both, mirror, rtcosim, scratch, text, tune_pick, tune_processor};
 use golden::fp::Method;
 use golden::scene::{RenderSettings, Scene};
-use rtcosim::output::device::{Build, CostTable, Device};
 use rtcosim::design::processor::ProcessorKind;
+use rtcosim::output::device::{Build, CostTable, Device};
 
 /// One configuration of the grid on one processor, measured here.
 #[derive(Debug, Clone, Copy)]
@@ -80,7 +80,8 @@ fn brute_force(scene: &Scene) -> Vec<Measured> {
                         .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs() * 255.0))
                         .collect();
                     for processor in [ProcessorKind::Compact, ProcessorKind::Fast] {
-                        let (cycles, _, _) = rtcosim::campaign::sweep::frame_cycles(processor, &stats, &work);
+                        let (cycles, _, _) =
+                            rtcosim::campaign::sweep::frame_cycles(processor, &stats, &work);
                         // The build the scene runs on: without the
                         // exponential only if the scene has no exposure
                         // and the table holds that build.

@@ -4,11 +4,11 @@
 //! golden, and (with the cargo feature `coverage`) the coverage models count
 //! what a run does and the directed scenes take the transitions they name.
 
+mod common;
+
 use golden::micro::isa;
 use std::hash::Hasher;
 use std::path::Path;
-use rtcosim::design::Design;
-use rtcosim::design::processor::ProcessorKind;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -226,10 +226,10 @@ fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
             );
         }
         let window = golden::window::Window::full(scene);
-        let report = rtcosim::check::cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene,
+        let report = common::run_compact(
+            scene,
             window,
             &rtcosim::check::cosim::CosimOptions::default(),
-            &|_| {},
         )
         .expect("the run");
         assert!(report.passed(), "{file}:\n{report}");
@@ -243,7 +243,9 @@ fn without_the_coverage_build_coverage_is_refused_with_the_command_that_builds_i
         return;
     }
     let dir = std::env::temp_dir().join(format!("rtcosim-cov-refused-{}", std::process::id()));
-    let e = rtcosim::output::coverage::enable(&dir).unwrap_err().to_string();
+    let e = rtcosim::output::coverage::enable(&dir)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("--features coverage"), "{e}");
 }
 
@@ -297,7 +299,7 @@ mod built {
             .build()
             .expect("pool");
         let report = pool
-            .install(|| cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &CosimOptions::default(), &|_| {}))
+            .install(|| common::run_compact(&scene, window, &CosimOptions::default()))
             .expect("run");
         assert!(report.passed());
         let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");
@@ -399,12 +401,8 @@ mod built {
         let (_one, dir) = coverage_into("cov-scenes");
         let scenes = cover_scenes();
         for (file, scene, _) in &scenes {
-            let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene,
-                Window::full(scene),
-                &CosimOptions::default(),
-                &|_| {},
-            )
-            .expect("run");
+            let report = common::run_compact(scene, Window::full(scene), &CosimOptions::default())
+                .expect("run");
             assert!(report.passed(), "{file}");
         }
         let done = coverage::finish(std::slice::from_ref(&dir), &dir, false).expect("finish");

@@ -4,8 +4,8 @@
 //! binding resource's quotient, and its frames a second follow.
 
 use golden::fp::Method;
-use rtcosim::output::device::{Build, CostError, CostTable, Device, Source};
 use rtcosim::design::processor::ProcessorKind;
+use rtcosim::output::device::{Build, CostError, CostTable, Device, Source};
 
 fn build(processor: ProcessorKind, exposure: bool) -> Build {
     Build {

@@ -16,14 +16,14 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use golden::window::Window;
-use rtcosim::design::top::{Source, Stall, Top};
 use rtcosim::design::processor::FAST_CONTEXTS;
+use rtcosim::design::top::{Source, Stall, Top};
 
 mod common;
 
 use common::{builtin, window};
-use rtcosim::design::Design;
 use golden::fp::Method;
+use rtcosim::design::Design;
 
 /// Cycles a frame takes beyond the barrel rule's (fast_pp.v: one into the
 /// coordinate queue, two of the register file's read, one into the result
@@ -45,8 +45,8 @@ fn pixel_diff(rtl: &[TraceEvent], golden: &[TraceEvent]) -> Option<String> {
 /// `contexts`: the divergences found, one line each.
 fn cosim(scene: &Scene, coords: &[(u32, u32)], fault: Option<Fault>, contexts: u32) -> Vec<String> {
     let g = Processor::new(scene);
-    let mut t =
-        Top::open(&Design::fast(scene.render.recip, scene.render.sqrt)).unwrap_or_else(|e| panic!("{e}"));
+    let mut t = Top::open(&Design::fast(scene.render.recip, scene.render.sqrt))
+        .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
     let mut bad = Vec::new();
@@ -191,7 +191,11 @@ fn assert_every_builtin_scene_agrees(top: &Design) {
             t.predicted_frame_cycles.is_some() && t.frame_cycles_agree(),
             "{name}\n{r}"
         );
-        assert_eq!((r.design.procs, t.contexts), (top.procs, top.contexts()), "{name}");
+        assert_eq!(
+            (r.design.procs, t.contexts),
+            (top.procs, top.contexts()),
+            "{name}"
+        );
         assert!(r.passed(), "{name}\n{r}");
     }
 }
@@ -230,8 +234,9 @@ fn every_builtin_scene_without_exposure_agrees_on_the_fast_processor_without_exp
         .render
         .exposure
         .expect("overexposed sets an exposure");
-    let mut t = Top::open(&Design::fast(overexposed.render.recip, overexposed.render.sqrt).exp_unit(false))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let mut t =
+        Top::open(&Design::fast(overexposed.render.recip, overexposed.render.sqrt).exp_unit(false))
+            .unwrap_or_else(|e| panic!("{e}"));
     let refused = t.load_scene(&overexposed);
     assert_eq!(
         refused,
@@ -341,8 +346,8 @@ fn run_stalled(
     stall: Stall,
 ) -> (Vec<u64>, StalledRun) {
     let g = Processor::new(scene);
-    let mut t =
-        Top::open(&Design::fast(scene.render.recip, scene.render.sqrt)).unwrap_or_else(|e| panic!("{e}"));
+    let mut t = Top::open(&Design::fast(scene.render.recip, scene.render.sqrt))
+        .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_backpressure(seed, stall);
     let mut bad = Vec::new();
@@ -419,8 +424,9 @@ fn cosim_top(
     rule_sees_stalls: bool,
 ) -> Vec<String> {
     let g = Processor::new(scene);
-    let mut t = Top::open(&Design::fast(scene.render.recip, scene.render.sqrt).procs(Some(TOP_PROCS)))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let mut t =
+        Top::open(&Design::fast(scene.render.recip, scene.render.sqrt).procs(Some(TOP_PROCS)))
+            .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t.set_fault(fault, u32::MAX);
     t.set_backpressure(3, Stall::percent(stall_percent));
@@ -618,8 +624,8 @@ fn every_builtin_scene_agrees_on_a_top_of_fast_processors() {
 #[test]
 fn a_list_of_pixels_runs_on_the_fast_processor() {
     use rtcosim::check::cosim::{run_pixels, CosimError, CosimOptions};
-    use rtcosim::output::device::Build;
     use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::output::device::Build;
     let scene = Scene::reference().resized(64, 48, "test").expect("resized");
     let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
     let build = Build::for_scene(ProcessorKind::Fast, recip, sqrt, true);
@@ -640,8 +646,8 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
         fault: Some("PRI_HALF:0x400".parse().expect("a fault")),
         ..CosimOptions::default()
     };
-    let report =
-        run_pixels(&fast, &scene, &pixels[..40], &faulty, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let report = run_pixels(&fast, &scene, &pixels[..40], &faulty, &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.counts.divergent_pixels, 40, "{report}");
     let twice = [(3, 4), (5, 6), (3, 4)];
     let err = run_pixels(&fast, &scene, &twice, &options, &|_| {}).expect_err("a repeated pixel");
@@ -677,5 +683,8 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
     let other_methods = Design::fast(other(recip).expect("two methods"), sqrt);
     let err = run_pixels(&other_methods, &scene, &pixels[..2], &options, &|_| {})
         .expect_err("other methods than the scene's");
-    assert!(err.to_string().contains("but this pixel processor"), "{err}");
+    assert!(
+        err.to_string().contains("but this pixel processor"),
+        "{err}"
+    );
 }

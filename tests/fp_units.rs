@@ -9,8 +9,8 @@
 
 use golden::fp::{Method, UlpDistance};
 use rtcosim::check::fp_check::{self, check_batch, CheckReport, Operands};
-use rtcosim::design::fp_unit::{FpUnit, UnitError, UnitKind};
 use rtcosim::check::operands;
+use rtcosim::design::fp_unit::{FpUnit, UnitError, UnitKind};
 
 const SEED: u64 = 0x2011_0607;
 const RANDOM_OPERANDS: u64 = 1_000_000;

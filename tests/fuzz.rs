@@ -7,8 +7,8 @@
 
 use golden::micro::isa::state;
 use rtcosim::campaign::fuzz::{self, Fate, FuzzOptions, FuzzReport};
-use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {

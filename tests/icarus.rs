@@ -313,8 +313,11 @@ fn icarus_speed_against_verilator() {
     assert!(diff.is_empty(), "{}", diff.join("\n"));
     let icarus_cycles: u64 = got.iter().map(|p| p.cycles).sum();
 
-    let mut rtl = rtcosim::design::pixel_proc::PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt))
-        .expect("the verilated model");
+    let mut rtl = rtcosim::design::pixel_proc::PixelProcessor::open(&Design::compact(
+        scene.render.recip,
+        scene.render.sqrt,
+    ))
+    .expect("the verilated model");
     rtl.load_scene(&scene).expect("loading the scene");
     let start = std::time::Instant::now();
     let mut verilator_cycles = 0;
@@ -358,8 +361,8 @@ fn pipelined_units_agree_with_golden() {
     if !icarus_present("pipelined_units_agree_with_golden") {
         return;
     }
-    use rtcosim::design::fp_unit::UnitKind;
     use rtcosim::check::operands;
+    use rtcosim::design::fp_unit::UnitKind;
     let recip = UnitKind::FastRecip(Method::Exact);
     let (mut a, mut b) = operands::edge_cases(UnitKind::FastAdd);
     let (ra, rb) = operands::random_chunk(UnitKind::FastAdd, 0x2011_0607, 0, 20_000);
@@ -442,7 +445,7 @@ fn fast_register_file_agrees_with_its_model() {
 /// chains, EXPs as close as allowed) with and without exposure, every
 /// result, its context, write bit, defined lanes and flags, and exp_ready
 /// in every cycle as golden and the contract say (the vectors are built
-/// from the same `harness::fast_alu::Schedule` the Verilator test runs). A
+/// from the same `harness::check::alu_check::Schedule` the Verilator test runs). A
 /// golden value changed in one result is reported as exactly that
 /// mismatch.
 #[test]
@@ -452,7 +455,7 @@ fn fast_alu_agrees_with_golden_under_icarus() {
     }
     use golden::micro::alu::fast_latency;
     use golden::micro::isa::op;
-    use rtcosim::design::fast_alu::{Plan, Schedule};
+    use rtcosim::check::alu_check::{Plan, Schedule};
     let dir = work_dir("fast_alu");
     for exposure in [true, false] {
         let plan = Plan {

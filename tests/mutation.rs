@@ -92,7 +92,13 @@ fn listed_hash(list: &str) -> String {
 fn the_mutant_lists_were_listed_on_todays_rtl() {
     let today = script(SMOKE_LIST, &["hash"]).trim().to_string();
     assert_eq!(today.len(), 16, "{SCRIPT} hash: {today:?}");
-    for list in [rtcosim::design::processor::ProcessorKind::Compact.row().mutants.list_path, SMOKE_LIST] {
+    for list in [
+        rtcosim::design::processor::ProcessorKind::Compact
+            .row()
+            .mutants
+            .list_path,
+        SMOKE_LIST,
+    ] {
         assert_eq!(
             listed_hash(list),
             today,
@@ -391,9 +397,9 @@ fn the_fast_processors_mutants_are_judged_and_their_shards_merge() {
 fn a_killed_campaign_resumes_from_its_journal() {
     use common::{arg, both, rtcosim, text};
     use rtcosim::campaign::mutation::{Campaign, JudgeSpec, List, Outcome, Verdict};
-    use rtcosim::design::processor::ProcessorKind;
     use rtcosim::campaign::shard::file::run_config;
     use rtcosim::campaign::shard::journal::Journal;
+    use rtcosim::design::processor::ProcessorKind;
     let dir = common::scratch("mutation", "resume");
     let list = List::committed(ProcessorKind::Compact).expect("the list");
     // The campaign `mutate --mutants 1-2 --size 8x6 --fuzz 0` runs (its
@@ -543,7 +549,10 @@ fn a_unit_the_mutant_netlist_lacks_is_a_clear_error() {
         assert!(err.to_string().contains("exact methods only"), "{err}");
     }
     let processors = [ProcessorKind::Compact, ProcessorKind::Fast];
-    for kind in processors.into_iter().flat_map(rtcosim::campaign::mutation::units) {
+    for kind in processors
+        .into_iter()
+        .flat_map(rtcosim::campaign::mutation::units)
+    {
         let mut unit = FpUnit::new_mutant(kind, 0).expect("a unit of the netlist");
         let (a, b) = (vec![0x3F80_0000u32], vec![0x4000_0000u32]);
         let (y, _) = unit
@@ -603,12 +612,12 @@ fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
 #[test]
 fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
     use golden::fp::Method;
-    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
     use rtcosim::check::operands::{
         edge_cases, EXP_MUTANT_KILLERS, FAST_ADD_MUTANT_KILLERS, FAST_EXP_MUTANT_KILLERS,
         FAST_MUL_MUTANT_KILLERS, FAST_RECIP_MUTANT_KILLERS, FAST_SQRT_MUTANT_KILLERS,
         RECIP_MUTANT_KILLERS, SQRT_MUTANT_KILLERS,
     };
+    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
     let unary = |killers: &[(u32, u16)]| -> Vec<(u32, u32, u16)> {
         killers.iter().map(|&(a, id)| (a, 0, id)).collect()
     };
@@ -667,11 +676,11 @@ fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
 #[test]
 fn the_judges_scenes_agree_with_golden_on_both_processors() {
     use golden::fp::Method;
-    use rtcosim::check::cosim::{self, CosimOptions};
-    use rtcosim::design::Design;
     use rtcosim::campaign::mutation::{Judge, JudgeSpec, Stimulus};
+    use rtcosim::check::cosim::{self, CosimOptions};
     use rtcosim::design::processor::ProcessorKind;
     use rtcosim::design::top::Stall;
+    use rtcosim::design::Design;
     let spec = JudgeSpec {
         width: 16,
         height: 12,
@@ -699,7 +708,7 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
             };
             let options = CosimOptions { stall, ..options };
             let report = cosim::run_on(&mut dut, scene, *window, &options, &mut |_| {})
-            .unwrap_or_else(|e| panic!("{processor}: {}: {e}", check.name));
+                .unwrap_or_else(|e| panic!("{processor}: {}: {e}", check.name));
             assert!(report.passed(), "{processor}: {} diverges", check.name);
             assert_eq!(
                 report.compare.counts.pixels,

@@ -24,9 +24,9 @@ use golden::window::Window;
 use rtcosim::check::compare::DivergenceKind;
 use rtcosim::check::cosim::{self, CosimError, CosimOptions, CosimReport};
 use rtcosim::design::pixel_proc::PixelProcessor;
-use rtcosim::design::{Fault, HangKind, PpError};
-use rtcosim::design::Design;
 use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::Design;
+use rtcosim::design::{Fault, HangKind, PpError};
 
 /// The method pairs every scene is co-simulated with.
 const METHODS: [(Method, Method); 2] =
@@ -46,7 +46,7 @@ fn builtin(name: &str, width: u32, height: u32) -> Scene {
 }
 
 fn cosim_all(scene: &Scene, window: Window) -> CosimReport {
-    cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene, window, &CosimOptions::default(), &|_| {})
+    common::run_compact(scene, window, &CosimOptions::default())
         .unwrap_or_else(|e| panic!("co-simulation failed: {e}"))
 }
 
@@ -123,7 +123,7 @@ fn overexposed_frame_agrees() {
         keep_frames: true,
         ..CosimOptions::default()
     };
-    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, Window::full(&scene), &options, &|_| {}).expect("runs");
+    let report = common::run_compact(&scene, Window::full(&scene), &options).expect("runs");
     let frames = report.frames.expect("kept");
     assert_eq!(frames.rtl.saturated_pixels(), 0);
     assert!(
@@ -270,7 +270,7 @@ fn assert_faults_caught(scene: &Scene, window: Window, states: &[u16]) {
             }),
             ..CosimOptions::default()
         };
-        let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
+        let report = common::run_compact(&scene, window, &options).expect("runs");
         let name = isa::state_name(fault_state).expect("named");
         let d = report
             .compare
@@ -329,7 +329,8 @@ fn full_reference_frame_agrees() {
 // ---------------------------------------------------------------------------
 
 fn loaded(scene: &Scene) -> PixelProcessor {
-    let mut pp = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model builds");
+    let mut pp = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt))
+        .expect("model builds");
     pp.load_scene(scene).expect("scene loads");
     pp
 }
@@ -401,9 +402,15 @@ fn the_report_does_not_depend_on_the_thread_count() {
         let done = std::sync::atomic::AtomicU64::new(0);
         let report = pool
             .install(|| {
-                cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|n| {
-                    done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-                })
+                cosim::run(
+                    &Design::for_scene(ProcessorKind::Compact, &scene),
+                    &scene,
+                    window,
+                    &options,
+                    &|n| {
+                        done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                    },
+                )
             })
             .expect("runs");
         assert_eq!(done.into_inner(), window.pixels(), "progress adds up");
@@ -420,7 +427,8 @@ fn the_report_does_not_depend_on_the_thread_count() {
 #[test]
 fn a_pixel_outside_the_image_is_an_error() {
     let scene = builtin("reference", 40, 30);
-    let mut pp = PixelProcessor::open(&Design::compact(Method::Exact, Method::Exact)).expect("model builds");
+    let mut pp =
+        PixelProcessor::open(&Design::compact(Method::Exact, Method::Exact)).expect("model builds");
     assert_eq!(pp.run_pixel(0, 0, None), Err(PpError::NoScene));
     pp.load_scene(&scene).expect("loads");
     for (x, y) in [(40, 0), (0, 30), (u32::MAX, u32::MAX)] {
@@ -448,7 +456,7 @@ fn a_pixel_outside_the_image_is_an_error() {
         Window::new(0, 0, 0, 5),
     ] {
         let err =
-            cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &CosimOptions::default(), &|_| {}).expect_err("outside");
+            common::run_compact(&scene, window, &CosimOptions::default()).expect_err("outside");
         assert!(matches!(err, CosimError::Window(_)), "{err}");
     }
 }
@@ -464,7 +472,8 @@ fn a_scene_with_other_methods_is_refused() {
     );
     for recip in Method::ALL {
         for sqrt in Method::ALL {
-            let mut pp = PixelProcessor::open(&Design::compact(recip, sqrt)).expect("every pair is built");
+            let mut pp =
+                PixelProcessor::open(&Design::compact(recip, sqrt)).expect("every pair is built");
             assert_eq!(pp.methods(), (recip, sqrt));
             let other = with_methods(&exact, recip, sqrt);
             pp.load_scene(&other).expect("its own methods load");
@@ -523,7 +532,7 @@ fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
         ..CosimOptions::default()
     };
     let window = Window::new(3, 2, 4, 4);
-    match cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}) {
+    match common::run_compact(&scene, window, &options) {
         Err(CosimError::Rtl(PpError::Hung { x, y, .. })) => {
             assert_eq!(x, window.x, "the first pixel of its row");
             assert!((window.y..window.y + window.height).contains(&y));
@@ -609,7 +618,8 @@ fn the_golden_fault_is_the_rtl_fault_bit_for_bit() {
     use rtcosim::check::compare::{compare_pixel, Tolerance};
     let scene = builtin("reference", 40, 30);
     let window = Window::new(8, 6, 10, 8);
-    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model");
+    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt))
+        .expect("model");
     rtl.load_scene(&scene).expect("loads");
     for fault in [
         Fault {
@@ -665,7 +675,7 @@ fn kept_frames_are_the_windows_colours() {
         keep_frames: true,
         ..CosimOptions::default()
     };
-    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
+    let report = common::run_compact(&scene, window, &options).expect("runs");
     let frames = report.frames.expect("kept");
     let (full, _) = golden::micro::render(&scene, &|_| {});
     for frame in [&frames.rtl, &frames.golden] {
@@ -692,7 +702,8 @@ fn kept_frames_are_the_windows_colours() {
 fn the_bare_clock_loop_runs_the_predicted_cycles() {
     let scene = builtin("mirror", 24, 18);
     let golden = golden::micro::Processor::new(&scene);
-    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt)).expect("model");
+    let mut rtl = PixelProcessor::open(&Design::compact(scene.render.recip, scene.render.sqrt))
+        .expect("model");
     assert!(matches!(rtl.run_bare(&[(0, 0)]), Err(PpError::NoScene)));
     rtl.load_scene(&scene).expect("scene");
     let pixels: Vec<(u32, u32)> = Window::full(&scene).iter().collect();

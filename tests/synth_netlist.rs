@@ -47,8 +47,7 @@ fn without_the_feature_the_netlist_is_a_clear_error() {
         .expect("no netlist was built");
     let text = e.to_string();
     assert!(
-        text.contains("synthesized netlist model")
-            && text.contains("--features synth-netlist"),
+        text.contains("synthesized netlist model") && text.contains("--features synth-netlist"),
         "{text}"
     );
     // The scenes the ignored test runs all take the exact methods.

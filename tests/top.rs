@@ -15,11 +15,11 @@ use golden::micro::Processor;
 use golden::scene::Scene;
 use golden::window::Window;
 use rtcosim::check::cosim::{self, CosimError, CosimOptions};
-use rtcosim::design::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
-use rtcosim::design::top::{Source, Stall, Top};
-use std::collections::BTreeMap;
-use rtcosim::design::Design;
 use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::top::{Source, Stall, Top};
+use rtcosim::design::Design;
+use rtcosim::design::{Fault, HangKind, PpError, ProcessorId, SlotLayout};
+use std::collections::BTreeMap;
 
 fn builtin(name: &str, width: u32, height: u32) -> Scene {
     Scene::builtin(name)
@@ -30,7 +30,8 @@ fn builtin(name: &str, width: u32, height: u32) -> Scene {
 
 fn top(procs: u32, scene: &Scene) -> Top {
     let mut t =
-        Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(procs))).unwrap_or_else(|e| panic!("{e}"));
+        Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(procs)))
+            .unwrap_or_else(|e| panic!("{e}"));
     t.load_scene(scene).unwrap_or_else(|e| panic!("{e}"));
     t
 }
@@ -116,7 +117,7 @@ fn the_report_through_the_top_is_the_bare_processors_for_any_n_and_threads() {
     let scene = builtin("mirror", 40, 30);
     let window = Window::new(3, 2, 30, 11);
     let options = CosimOptions::default();
-    let bare = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
+    let bare = common::run_compact(&scene, window, &options).expect("runs");
     assert!(bare.passed(), "{bare}");
     let mut tops = BTreeMap::new();
     for procs in [1, 4] {
@@ -191,7 +192,8 @@ fn backpressure_on_the_result_stream_loses_and_duplicates_nothing() {
 #[test]
 fn bad_coordinates_and_scenes_are_refused_before_simulation() {
     let scene = builtin("reference", 40, 30);
-    let mut t = Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(4))).expect("built");
+    let mut t = Top::open(&Design::compact(scene.render.recip, scene.render.sqrt).procs(Some(4)))
+        .expect("built");
     assert_eq!(
         t.run_frame(Source::Stream(&[(1, 1)]), &mut |_| {})
             .unwrap_err(),
@@ -332,7 +334,7 @@ fn the_fault_self_test_works_through_the_top() {
         }),
         ..CosimOptions::default()
     };
-    let bare = cosim::run(&Design::for_scene(ProcessorKind::Compact, &scene), &scene, window, &options, &|_| {}).expect("runs");
+    let bare = common::run_compact(&scene, window, &options).expect("runs");
     let top = Design::for_scene(ProcessorKind::Compact, &scene).procs(Some(4));
     let through = cosim::run(&top, &scene, window, &options, &|_| {}).expect("runs");
     assert!(!through.passed());

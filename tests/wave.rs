@@ -15,10 +15,10 @@ use golden::scene::Scene;
 use golden::window::Window;
 use rtcosim::check::compare::Divergence;
 use rtcosim::check::cosim::{self, CosimOptions};
+use rtcosim::design::processor::ProcessorKind;
 use rtcosim::design::top::Stall;
 use rtcosim::design::Design;
 use rtcosim::design::Fault;
-use rtcosim::design::processor::ProcessorKind;
 use rtcosim::output::wave::{self, Replay, WaveError};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -50,7 +50,7 @@ fn first_divergence(scene: &Scene, fault: Fault) -> Divergence {
         fault: Some(fault),
         ..CosimOptions::default()
     };
-    let report = cosim::run(&Design::for_scene(ProcessorKind::Compact, scene), scene, Window::full(scene), &options, &|_| {})
+    let report = common::run_compact(scene, Window::full(scene), &options)
         .unwrap_or_else(|e| panic!("co-simulation failed: {e}"));
     report
         .compare
@@ -334,8 +334,8 @@ fn a_bad_path_is_a_clear_error() {
     let (scene, fault, d) = pri_half();
     let dir = scratch("bad-path");
     let missing = dir.join("no-such-dir").join("wave.fst");
-    let e =
-        wave::write_divergence(&scene, Some(fault), &d, 5, &missing, compact_replay(&scene)).unwrap_err();
+    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &missing, compact_replay(&scene))
+        .unwrap_err();
     assert!(
         matches!(&e, WaveError::Io { path, .. } if *path == missing),
         "{e:?}"
@@ -345,7 +345,8 @@ fn a_bad_path_is_a_clear_error() {
         text.contains(&missing.display().to_string()) && text.contains("No such file"),
         "{text}"
     );
-    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir, compact_replay(&scene)).unwrap_err();
+    let e = wave::write_divergence(&scene, Some(fault), &d, 5, &dir, compact_replay(&scene))
+        .unwrap_err();
     assert!(matches!(e, WaveError::NotAFile { .. }), "{e:?}");
     assert!(e.to_string().contains("not a file name"), "{e}");
 }
@@ -635,8 +636,8 @@ fn the_fast_processors_window_is_its_tile_re_run_around_the_divergence() {
         ..CosimOptions::default()
     };
     let fast = Design::for_scene(ProcessorKind::Fast, &scene);
-    let report = cosim::run(&fast, &scene, window, &options, &|_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+    let report =
+        cosim::run(&fast, &scene, window, &options, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
     let d = report.compare.first_divergence.expect("the fault diverged");
     let seq = d.seq().expect("an event diverged");
     let (rtl_event, _) = d.events();

@@ -6,11 +6,11 @@ use clap::ValueEnum;
 use golden::fp::Method;
 use golden::scene::{Scene, MAX_IMAGE_SIDE};
 use golden::window::Window;
+use rtcosim::campaign::shard::Shard;
+use rtcosim::campaign::sweep::ConfirmOptions;
 use rtcosim::check::cosim::CosimOptions;
 use rtcosim::design::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::scenes::{self, Overrides};
-use rtcosim::campaign::shard::Shard;
-use rtcosim::campaign::sweep::ConfirmOptions;
 use std::path::Path;
 
 /// The scene and what a command line may change in it.

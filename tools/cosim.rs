@@ -7,15 +7,15 @@ use crate::args::{
 };
 use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::{bail, Context, Result};
-use golden::scene::Scene;
 use golden::micro::isa::state_label;
+use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::output::artefacts;
 use rtcosim::check::cosim::{self, CosimError, CosimOptions, CosimReport};
-use rtcosim::design::Design;
-use rtcosim::design::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::design::processor::ProcessorKind;
 use rtcosim::design::top::Stall;
+use rtcosim::design::Design;
+use rtcosim::design::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::output::artefacts;
 use rtcosim::output::wave::Replay;
 
 use std::io::Write;
@@ -38,7 +38,7 @@ pub struct CosimArgs {
     /// pipelined, its cycles the barrel rule's, golden::micro::barrel; run
     /// through its streams, the window in tiles of 4 rows; with --procs N,
     /// N of them through rtl/top.v).
-    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    #[arg(long, value_enum, default_value_t = ProcessorKind::default())]
     pub processor: ProcessorKind,
     /// With --processor fast: the fast processor built without its
     /// exponential (rtl/fast/fast_pp.v with EXPOSURE = 0: no fp_exp, fewer

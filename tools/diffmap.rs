@@ -11,9 +11,9 @@ use golden::diffmap::DiffMap;
 use golden::frame::Frame;
 use golden::scene::Scene;
 use golden::window::Window;
+use rtcosim::check::cosim::{self, CosimOptions};
 use rtcosim::design::processor::ProcessorKind;
 use rtcosim::design::Design;
-use rtcosim::check::cosim::{self, CosimOptions};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -304,11 +304,10 @@ fn render(
                 keep_frames: true,
                 ..Default::default()
             };
-            let report =
-                pool.install(|| {
-                    let design = Design::for_scene(ProcessorKind::Compact, scene);
-                    cosim::run(&design, scene, Window::full(scene), &options, &progress)
-                })?;
+            let report = pool.install(|| {
+                let design = Design::for_scene(ProcessorKind::default(), scene);
+                cosim::run(&design, scene, Window::full(scene), &options, &progress)
+            })?;
             bar.finish_and_clear();
             writeln!(
                 out,

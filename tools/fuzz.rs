@@ -7,10 +7,10 @@ use anyhow::{Context, Result};
 use golden::micro::isa;
 use rtcosim::campaign::fuzz::summary::{self, Campaign, Summary};
 use rtcosim::campaign::fuzz::{self, FuzzOptions};
-use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
-use rtcosim::design::processor::ProcessorKind;
 use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
 use rtcosim::campaign::shard::Shard;
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -32,7 +32,7 @@ pub struct FuzzArgs {
     pub failures: PathBuf,
     /// The pixel processor the scenes run on: compact or fast (as `cosim
     /// --processor`).
-    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    #[arg(long, value_enum, default_value_t = ProcessorKind::default())]
     pub processor: ProcessorKind,
     #[command(flatten)]
     pub threads: ThreadsArgs,

@@ -5,11 +5,11 @@ use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use rtcosim::campaign::mutation::{self, Campaign, Judge, JudgeSpec, List, Outcome, Summary};
-use rtcosim::design::DEFAULT_TIMEOUT_CYCLES;
-use rtcosim::design::processor::ProcessorKind;
 use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
 use rtcosim::campaign::shard::journal::Journal;
 use rtcosim::campaign::shard::Shard;
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::DEFAULT_TIMEOUT_CYCLES;
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -20,7 +20,7 @@ pub struct MutateArgs {
     /// Whose mutants: the compact processor's
     /// (rtl/mutate/pixel_processor.mutants) or the fast one's
     /// (rtl/mutate/fast_pp.mutants).
-    #[arg(long, value_enum, default_value_t = ProcessorKind::Compact)]
+    #[arg(long, value_enum, default_value_t = ProcessorKind::default())]
     pub processor: ProcessorKind,
     /// The mutants to judge, by number in the processor's list: a
     /// comma-separated list of N and N-M (default: every one).

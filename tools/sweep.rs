@@ -4,12 +4,12 @@ use crate::args::{parse_cutoff, parse_size, RtlCheckArgs, ShardArgs, Size, Threa
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
-use rtcosim::design::processor::ProcessorKind;
-use rtcosim::scenes::{self, Overrides};
 use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
 use rtcosim::campaign::shard::Shard;
 use rtcosim::campaign::sweep::run::{self, NamedScene, RunConfig, ShardResult};
 use rtcosim::campaign::sweep::{self, chart, Axis, Row, SceneSweep, ECP5_CLOCK_HZ};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::scenes::{self, Overrides};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -458,9 +458,15 @@ fn run_tile(
             start(dut)?;
             (Vec::new(), None)
         }
-        CycleRule::Barrel { contexts, overhead } => {
-            predict_barrel(dut, golden, coords, options.stall, contexts, overhead, &start)?
-        }
+        CycleRule::Barrel { contexts, overhead } => predict_barrel(
+            dut,
+            golden,
+            coords,
+            options.stall,
+            contexts,
+            overhead,
+            &start,
+        )?,
     };
     // Where each pixel is in the tile (its cycles' index).
     let at: HashMap<(u32, u32), usize> = coords.iter().enumerate().map(|(i, &c)| (c, i)).collect();

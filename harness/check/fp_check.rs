@@ -8,8 +8,8 @@
 //! every result with the correctly rounded value, to measure the method's
 //! error.
 
-use crate::design::fp_unit::{FpUnit, UnitError, UnitKind};
 use crate::check::operands::{self, CHUNK};
+use crate::design::fp_unit::{FpUnit, UnitError, UnitKind};
 use golden::fp::{ulp_distance, UlpDistance};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};

@@ -5,6 +5,8 @@
 //!   whatever produced them; verdicts and reports.
 //! - [`cosim`]: a design against the golden micro-op model, event by
 //!   event, cycle for cycle, streaming.
+//! - [`alu_check`]: the fast processor's ALU alone, seeded schedules of
+//!   interleaved contexts' opcodes against golden's ALU.
 //! - [`fp_check`]: operands through a float unit and its golden model,
 //!   every disagreement measured in ULPs; [`operands`]: TestFloat-style
 //!   edge cases and seeded random operands.
@@ -12,6 +14,7 @@
 //!   golden model and of the RTL; [`trace_diff`]: two trace files through
 //!   the comparison engine.
 
+pub mod alu_check;
 pub mod compare;
 pub mod cosim;
 pub mod fp_check;

@@ -64,4 +64,3 @@ pub(crate) fn write_raw(dir: &Path, write: impl FnOnce(&str) -> Result<(), cxx::
         eprintln!("rtcosim: coverage counts lost, {}: {e}", path.display());
     }
 }
-

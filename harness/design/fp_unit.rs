@@ -248,7 +248,7 @@ impl FpUnit {
     /// Refuses a unit this build did not verilate, with the features that
     /// do.
     fn require(kind: UnitKind) -> Result<(), UnitError> {
-        crate::design::require(&kind.class()).map_err(|message| UnitError::Build {
+        crate::design::built::require(&kind.class()).map_err(|message| UnitError::Build {
             unit: kind,
             message,
         })
@@ -264,15 +264,14 @@ impl FpUnit {
 
     /// The unit as cut from its processor's mutant netlist (cargo feature
     /// `mutation`; the exact methods only), with mutant `id` selected (0:
-    /// the design as written), for [`crate::campaign::mutation`]; a pipelined one is
+    /// the design as written), for mutation testing; a pipelined one is
     /// read at its [`UnitKind::latency`].
     pub fn new_mutant(kind: UnitKind, id: u16) -> Result<FpUnit, UnitError> {
-        crate::design::require(&crate::design::models::mutant_unit_class(kind.module())).map_err(
-            |message| UnitError::Build {
+        crate::design::built::require(&crate::design::models::mutant_unit_class(kind.module()))
+            .map_err(|message| UnitError::Build {
                 unit: kind,
                 message,
-            },
-        )?;
+            })?;
         Self::wrap(kind, ffi::new_fp_unit_mut(kind.model(), id, kind.latency()))
     }
 

@@ -232,7 +232,11 @@ pub const EXACT: &str = "exact";
 /// ARB_GROUP), exact methods. The top of 2 fast processors puts each in a
 /// group of its own, so the tests see both the groups' registers and the
 /// arbiter over them.
-pub const TOPS: [(Rtl, u32, u32); 3] = [(Rtl::Compact, 1, 1), (Rtl::Compact, 4, 1), (Rtl::Fast, 2, 1)];
+pub const TOPS: [(Rtl, u32, u32); 3] = [
+    (Rtl::Compact, 1, 1),
+    (Rtl::Compact, 4, 1),
+    (Rtl::Fast, 2, 1),
+];
 
 /// `ARB_GROUP` of the tops of fast processors asked for by name
 /// (`RTCOSIM_TOPS`): the RTL's default.
@@ -285,8 +289,11 @@ pub fn table(methods: &[&str], extra_tops: &[(Rtl, u32, String, String)]) -> Vec
         }
     }
     // The fast ALU: the variants tests/fast_alu.rs co-simulates.
-    for (recip, sqrt, exposure) in [(EXACT, EXACT, true), ("fast", "fast", true), (EXACT, EXACT, false)]
-    {
+    for (recip, sqrt, exposure) in [
+        (EXACT, EXACT, true),
+        ("fast", "fast", true),
+        (EXACT, EXACT, false),
+    ] {
         if !methods.contains(&recip) {
             continue;
         }

@@ -29,15 +29,17 @@
 //! ([`PpError::Model`]).
 
 use crate::design::bridge::ffi;
+use crate::design::error::{
+    check_methods, scene_port_writes, Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES,
+};
 use crate::design::processor::Driver;
-use crate::design::{Design, check_methods, scene_port_writes, Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use crate::design::spec::Design;
 use cxx::UniquePtr;
 use golden::fp::Method;
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
 use golden::trace::TraceEvent;
 use std::path::PathBuf;
-
 
 #[derive(Debug, Clone, Copy)]
 struct Loaded {
@@ -75,7 +77,8 @@ impl PixelProcessor {
     pub fn open(design: &Design) -> Result<PixelProcessor, PpError> {
         let (design, coverage) = design.with_coverage();
         design.check_driver(Driver::OnePixel)?;
-        let inner = ffi::new_pixel_proc(&design.class()).map_err(|e| design.not_opened(e.what()))?;
+        let inner =
+            ffi::new_pixel_proc(&design.class()).map_err(|e| design.not_opened(e.what()))?;
         Ok(PixelProcessor {
             recip: design.recip,
             sqrt: design.sqrt,
@@ -92,10 +95,13 @@ impl PixelProcessor {
     /// On a mutant model: selects mutant `id` (0: the design as written)
     /// from the next reset on. Reset next: a mutant may fail its reset.
     pub fn set_mutant(&mut self, id: u16) -> Result<(), PpError> {
-        self.inner.pin_mut().set_mutant(id).map_err(|e| PpError::Model {
-            pixel: None,
-            message: e.what().to_string(),
-        })
+        self.inner
+            .pin_mut()
+            .set_mutant(id)
+            .map_err(|e| PpError::Model {
+                pixel: None,
+                message: e.what().to_string(),
+            })
     }
 
     /// The model, for [`crate::output::wave`]'s calls to its waveform port.

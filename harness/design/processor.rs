@@ -14,8 +14,12 @@
 
 use crate::design::fp_unit::UnitKind;
 use crate::design::models::Rtl;
-use crate::design::rtl_source::{FAST_CTRL_STATE_LINES, PP_CTRL_STATE_LINES};
 use std::fmt;
+
+// PP_CTRL_STATE_LINES and FAST_CTRL_STATE_LINES: (state name, line) of
+// every item of each controller's `case` on the state, read by the build
+// (build/rtl.rs).
+include!(concat!(env!("OUT_DIR"), "/rtl_state_lines.rs"));
 
 /// A pixel processor of `rtl/`, by name.
 #[derive(
@@ -197,12 +201,20 @@ pub const PROCESSORS: [Processor; 2] = [
             ),
             (
                 "controller",
-                &[("u_ctrl.st_q", State, Hex), ("op", Op, Hex), ("u_ctrl.sp_q", StackPointer, Dec)],
+                &[
+                    ("u_ctrl.st_q", State, Hex),
+                    ("op", Op, Hex),
+                    ("u_ctrl.sp_q", StackPointer, Dec),
+                ],
             ),
             ("trace port", TRACE_PORT),
             (
                 "fault port, colour",
-                &[("fault_state", State, Hex), ("fault_xor", Bits(32), Hex), ("rgb", Value, Hex)],
+                &[
+                    ("fault_state", State, Hex),
+                    ("fault_xor", Bits(32), Hex),
+                    ("rgb", Value, Hex),
+                ],
             ),
         ],
         mutant_design: "pixel_processor",
@@ -276,7 +288,11 @@ pub const PROCESSORS: [Processor; 2] = [
             ),
             (
                 "fault port, colour",
-                &[("fault_state", State, Hex), ("fault_xor", Bits(32), Hex), ("out_rgb", Value, Hex)],
+                &[
+                    ("fault_state", State, Hex),
+                    ("fault_xor", Bits(32), Hex),
+                    ("out_rgb", Value, Hex),
+                ],
             ),
         ],
         mutant_design: "fast_pp",

@@ -11,8 +11,6 @@ use crate::design::processor::ProcessorKind;
 use golden::micro::isa::state_name;
 use std::fmt;
 
-include!(concat!(env!("OUT_DIR"), "/rtl_state_lines.rs"));
-
 /// A line of a Verilog file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct VerilogLine {

@@ -36,8 +36,12 @@
 //! for twice as long stops it with [`PpError::Model`].
 
 use crate::design::bridge::ffi;
+use crate::design::error::{
+    check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
+    DEFAULT_TIMEOUT_CYCLES,
+};
 use crate::design::processor::Driver;
-use crate::design::{Design, check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout, DEFAULT_TIMEOUT_CYCLES};
+use crate::design::spec::Design;
 use cxx::UniquePtr;
 use golden::fp::Method;
 use golden::pixel::PixelOutcome;
@@ -47,7 +51,6 @@ use golden::window::Window;
 use std::collections::{HashMap, VecDeque};
 use std::fmt;
 use std::path::PathBuf;
-
 
 /// Results buffered on the C++ side before a batch returns to Rust.
 pub const RESULTS_PER_BATCH: u64 = 1024;

@@ -48,10 +48,10 @@
 use crate::check::compare::Divergence;
 use crate::check::cosim;
 use crate::design::pixel_proc::PixelProcessor;
-use crate::design::{Fault, PpError};
 use crate::design::processor::{Driver, ProcessorKind, Radix, WaveBits};
-use crate::design::{Design, Flavour};
 use crate::design::top::{Source, Stall, Top};
+use crate::design::{Design, Flavour};
+use crate::design::{Fault, PpError};
 use golden::micro::isa::{self, dim};
 use golden::pixel::PixelOutcome;
 use golden::scene::Scene;
@@ -284,19 +284,22 @@ pub fn write_window(
     std::fs::File::create(path).map_err(io(path))?;
     let fst = std::path::absolute(path).map_err(io(path))?;
     let (filter, gtkw) = companion_paths(&fst);
-    let (divergence_cycle, at, first_cycle, last_cycle, outcome, states) = match replay.design.driver() {
-        Driver::OnePixel => one_pixel_window(&replay.design, scene, fault, x, y, divergence_seq, k, &fst)?,
-        Driver::Streams => tile_window(
-            scene,
-            fault,
-            x,
-            y,
-            divergence_seq,
-            k,
-            &fst,
-            (&replay.design, replay.tile, replay.stall),
-        )?,
-    };
+    let (divergence_cycle, at, first_cycle, last_cycle, outcome, states) =
+        match replay.design.driver() {
+            Driver::OnePixel => {
+                one_pixel_window(&replay.design, scene, fault, x, y, divergence_seq, k, &fst)?
+            }
+            Driver::Streams => tile_window(
+                scene,
+                fault,
+                x,
+                y,
+                divergence_seq,
+                k,
+                &fst,
+                (&replay.design, replay.tile, replay.stall),
+            )?,
+        };
     let at = match at {
         DivergenceAt::Event { seq, .. } => DivergenceAt::Event {
             seq,
@@ -554,7 +557,14 @@ fn traces(processor: ProcessorKind) -> Vec<Option<(&'static str, Trace)>> {
             } else {
                 format!("{}.{name}[{}:0]", row.wave_scope, bits - 1)
             };
-            out.push(Some((title, Trace { flags, name, filter })));
+            out.push(Some((
+                title,
+                Trace {
+                    flags,
+                    name,
+                    filter,
+                },
+            )));
         }
     }
     out
@@ -584,7 +594,11 @@ fn save_file(w: &WaveWindow) -> String {
         w.x,
         w.y,
         if w.replay.streamed() {
-            format!(" on the {} processor fed tile {}", w.replay.processor(), w.replay.tile)
+            format!(
+                " on the {} processor fed tile {}",
+                w.replay.processor(),
+                w.replay.tile
+            )
         } else {
             String::new()
         },

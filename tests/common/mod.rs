@@ -48,6 +48,20 @@ fn rtl_files(dirs: &[&str], with_top: bool) -> (Vec<PathBuf>, Vec<PathBuf>) {
     (dirs, files)
 }
 
+/// Co-simulates `window` of `scene` on the compact processor alone, with
+/// the scene's methods.
+pub fn run_compact(
+    scene: &Scene,
+    window: golden::window::Window,
+    options: &rtcosim::check::cosim::CosimOptions,
+) -> Result<rtcosim::check::cosim::CosimReport, rtcosim::check::cosim::CosimError> {
+    let design = rtcosim::design::Design::for_scene(
+        rtcosim::design::processor::ProcessorKind::Compact,
+        scene,
+    );
+    rtcosim::check::cosim::run(&design, scene, window, options, &|_| {})
+}
+
 /// A builtin scene at `width` x `height`.
 pub fn builtin(name: &str, width: u32, height: u32) -> Scene {
     Scene::builtin(name)

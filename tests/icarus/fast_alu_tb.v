@@ -2,7 +2,7 @@
 `include "fp_defs.vh"
 // ============================================================================
 // fast_alu_tb -- rtl/fast/fast_alu.v under Icarus, cycle by cycle, against
-// golden's results (tests/icarus.rs writes them from harness::fast_alu's
+// golden's results (tests/icarus.rs writes them from harness::check::alu_check's
 // schedules)
 // ============================================================================
 // +vectors=FILE: one line a cycle, 13 hex words of 32 bits, first word

@@ -9,8 +9,8 @@
 //! count`, item `i` being scene `first + i` ([`Campaign::indices`]).
 
 use super::{Fate, FuzzReport};
-use crate::check::compare::Counts;
 use crate::campaign::shard::Shard;
+use crate::check::compare::Counts;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -37,7 +37,9 @@ pub struct Campaign {
 }
 
 fn compact() -> String {
-    crate::design::processor::ProcessorKind::default().name().to_string()
+    crate::design::processor::ProcessorKind::default()
+        .name()
+        .to_string()
 }
 
 impl Campaign {

@@ -30,8 +30,8 @@ pub mod run;
 
 use crate::check::compare::CompareReport;
 use crate::check::cosim::{self, CosimError, CosimOptions};
-use crate::output::device::Build;
 use crate::design::processor::{CycleRule, ProcessorKind};
+use crate::output::device::Build;
 use golden::diffmap::DiffMap;
 use golden::fp::Method;
 use golden::frame::Frame;
@@ -895,20 +895,18 @@ impl RtlCheck {
         options: &ConfirmOptions,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<CompareReport, SweepError> {
-        let design = self
-            .build
-            .design()
-            .map_err(|why| SweepError::Cosim {
-                scene: name.into(),
-                config: self.config.label(),
-                source: Box::new(CosimError::Rtl(why)),
-            })?;
-        cosim::run_pixels(&design, &self.scene, &self.pixels, &options.cosim, progress)
-        .map_err(|source| SweepError::Cosim {
+        let design = self.build.design().map_err(|why| SweepError::Cosim {
             scene: name.into(),
             config: self.config.label(),
-            source: Box::new(source),
-        })
+            source: Box::new(CosimError::Rtl(why)),
+        })?;
+        cosim::run_pixels(&design, &self.scene, &self.pixels, &options.cosim, progress).map_err(
+            |source| SweepError::Cosim {
+                scene: name.into(),
+                config: self.config.label(),
+                source: Box::new(source),
+            },
+        )
     }
 }
 

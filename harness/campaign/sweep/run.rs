@@ -21,9 +21,9 @@ use super::{
     measure_config, reference_frame, Axis, Config, ConfirmOptions, Grid, Row, SceneSweep, Skipped,
     SweepError,
 };
+use crate::campaign::shard::Shard;
 use crate::check::cosim::CosimOptions;
 use crate::design::processor::ProcessorKind;
-use crate::campaign::shard::Shard;
 use golden::scene::Scene;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

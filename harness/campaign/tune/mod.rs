@@ -20,8 +20,9 @@
 //! co-simulated on the build it is priced as ([`sweep::RtlCheck`]) before
 //! it is recommended.
 
-use crate::design::processor::ProcessorKind;
+pub mod report;
 use crate::campaign::sweep::{self, Config, Grid, Row, SweepError, ECP5_CLOCK_HZ};
+use crate::design::processor::ProcessorKind;
 use golden::fp::Method;
 use golden::scene::{RenderSettings, Scene, Speedups};
 use std::cmp::Ordering;
@@ -482,7 +483,7 @@ mod tests {
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a), "{a:?} twice");
         }
-        for p in [ProcessorKind::Compact, ProcessorKind::Fast] {
+        for p in ProcessorKind::ALL {
             assert_eq!(g.iter().filter(|c| c.processor == p).count(), g.len() / 2);
         }
     }

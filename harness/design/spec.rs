@@ -1,0 +1,256 @@
+//! [`Design`]: one verilated build of a processor, what no build makes
+//! ([`Design::refusal`]), and what this build lacks ([`Design::check`]).
+
+use crate::design::built::{how_to_build, BUILT};
+use crate::design::counts;
+use crate::design::error::{PpError, SlotLayout};
+use crate::design::models::{self, Flavour};
+use crate::design::processor::{Driver, Processor, ProcessorKind};
+use golden::fp::Method;
+use golden::scene::Scene;
+use std::fmt;
+use std::path::PathBuf;
+
+/// One verilated build of a processor: everything that picks its model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Design {
+    pub processor: ProcessorKind,
+    pub recip: Method,
+    pub sqrt: Method,
+    /// Whether the processors have their exponential unit (`EXPOSURE`);
+    /// only a processor whose row says `exp_optional` is built without.
+    pub exp_unit: bool,
+    /// Processors in `rtl/top.v`; `None`: the processor alone.
+    pub procs: Option<u32>,
+    pub flavour: Flavour,
+}
+
+impl Design {
+    /// `processor` alone with these methods, its exponential, plain.
+    pub fn new(processor: ProcessorKind, recip: Method, sqrt: Method) -> Design {
+        Design {
+            processor,
+            recip,
+            sqrt,
+            exp_unit: true,
+            procs: None,
+            flavour: Flavour::Plain,
+        }
+    }
+
+    /// The compact processor alone with these methods.
+    pub fn compact(recip: Method, sqrt: Method) -> Design {
+        Design::new(ProcessorKind::Compact, recip, sqrt)
+    }
+
+    /// The fast processor alone with these methods.
+    pub fn fast(recip: Method, sqrt: Method) -> Design {
+        Design::new(ProcessorKind::Fast, recip, sqrt)
+    }
+
+    /// `processor` alone with `scene`'s methods.
+    pub fn for_scene(processor: ProcessorKind, scene: &Scene) -> Design {
+        Design::new(processor, scene.render.recip, scene.render.sqrt)
+    }
+
+    /// The same with N processors in `rtl/top.v` (`None`: alone).
+    pub fn procs(self, procs: Option<u32>) -> Design {
+        Design { procs, ..self }
+    }
+
+    /// The same with or without the exponential unit.
+    pub fn exp_unit(self, exp_unit: bool) -> Design {
+        Design { exp_unit, ..self }
+    }
+
+    /// The same in another flavour.
+    pub fn flavour(self, flavour: Flavour) -> Design {
+        Design { flavour, ..self }
+    }
+
+    /// The same with `scene`'s methods.
+    pub fn methods_of(self, scene: &Scene) -> Design {
+        Design {
+            recip: scene.render.recip,
+            sqrt: scene.render.sqrt,
+            ..self
+        }
+    }
+
+    /// Its processor's row.
+    pub fn row(&self) -> &'static Processor {
+        self.processor.row()
+    }
+
+    /// How it is driven: every top through its streams, a processor alone
+    /// as its row says.
+    pub fn driver(&self) -> Driver {
+        match self.procs {
+            Some(_) => Driver::Streams,
+            None => self.row().alone,
+        }
+    }
+
+    /// Pixel contexts in all (slots of its streams).
+    pub fn contexts(&self) -> u32 {
+        self.procs.unwrap_or(1) * self.row().contexts
+    }
+
+    /// What its slots are.
+    pub fn slot_layout(&self) -> SlotLayout {
+        match (self.procs, self.row().contexts) {
+            (_, 1) => SlotLayout::Compact,
+            (None, _) => SlotLayout::FastContexts,
+            (Some(_), _) => SlotLayout::FastProcessors,
+        }
+    }
+
+    /// Whether its results leave through a stream that can be held back
+    /// (`--stall`).
+    pub fn has_result_stream(&self) -> bool {
+        self.driver() == Driver::Streams
+    }
+
+    /// Its class in the model table.
+    pub fn class(&self) -> String {
+        models::processor_class(
+            self.row().models,
+            self.flavour,
+            self.recip.name(),
+            self.sqrt.name(),
+            self.exp_unit,
+            self.procs.map(|procs| models::TopShape { procs, group: 0 }),
+        )
+    }
+
+    /// Why no build makes this design, if none does: the one place that
+    /// says what a design cannot be.
+    pub fn refusal(&self) -> Option<String> {
+        let row = self.row();
+        if let Some(why) = self.exp_unit_refusal() {
+            return Some(why);
+        }
+        if let Some(n) = self.procs {
+            if !(1..=row.max_procs).contains(&n) {
+                return Some(format!(
+                    "a top of {} processors has 1 to {} of them",
+                    row.name, row.max_procs
+                ));
+            }
+            if !self.exp_unit {
+                return Some(format!(
+                    "the tops of {} processors are built with the exponential only",
+                    row.name
+                ));
+            }
+            if self.flavour != Flavour::Plain {
+                return Some(format!(
+                    "the tops are built plain only, not as {} models",
+                    self.flavour.name()
+                ));
+            }
+        }
+        if self.flavour.is_yosys_netlist()
+            && (self.recip, self.sqrt) != (Method::Exact, Method::Exact)
+        {
+            return Some(format!(
+                "{} models are made with the exact methods only",
+                self.flavour.name()
+            ));
+        }
+        // A top of any N is made when asked for by name ([`Design::check`]).
+        if self.procs.is_none() && !BUILT.iter().any(|(class, _, _)| *class == self.class()) {
+            return Some(format!(
+                "no {} model of the {} processor is made",
+                self.flavour.name(),
+                row.name
+            ));
+        }
+        None
+    }
+
+    /// Why its processor cannot go without its exponential, if it cannot.
+    pub fn exp_unit_refusal(&self) -> Option<String> {
+        let row = self.row();
+        (!self.exp_unit && !row.exp_optional)
+            .then(|| format!("the {} processor always has its exponential", row.name))
+    }
+
+    /// Refuses a design no build makes ([`Design::refusal`]), or one this
+    /// build did not make, naming the cargo features that make it.
+    pub fn check(&self) -> Result<(), PpError> {
+        if let Some(why) = self.refusal() {
+            return Err(PpError::NotBuilt {
+                design: self.to_string(),
+                why,
+            });
+        }
+        let class = self.class();
+        match BUILT.iter().find(|(c, _, _)| *c == class) {
+            Some((_, _, true)) => Ok(()),
+            Some((_, features, false)) => Err(PpError::NotBuilt {
+                design: self.to_string(),
+                why: how_to_build(features),
+            }),
+            // A top of an N not in the table: asked for by name at build time.
+            None => Err(PpError::NotBuilt {
+                design: self.to_string(),
+                why: format!(
+                    "build it by name: RTCOSIM_TOPS={}{}:{}:{} cargo build --release",
+                    if self.row().contexts > 1 { "fast:" } else { "" },
+                    self.procs.unwrap_or(1),
+                    self.recip,
+                    self.sqrt
+                ),
+            }),
+        }
+    }
+
+    /// [`Design::check`], and that the design is driven by `driver`.
+    pub(crate) fn check_driver(&self, driver: Driver) -> Result<(), PpError> {
+        self.check()?;
+        if self.driver() != driver {
+            return Err(PpError::NotBuilt {
+                design: self.to_string(),
+                why: format!("it is driven {driver:?}, not {:?}", self.driver()),
+            });
+        }
+        Ok(())
+    }
+
+    /// The error of a model the C++ could not build.
+    pub(crate) fn not_opened(&self, message: &str) -> PpError {
+        PpError::NotBuilt {
+            design: self.to_string(),
+            why: message.to_string(),
+        }
+    }
+
+    /// The design to build when coverage is on in this process (its
+    /// coverage twin, if it is plain), and the directory its counts go to.
+    pub(crate) fn with_coverage(&self) -> (Design, Option<PathBuf>) {
+        match counts::dir() {
+            Some(dir) if self.flavour == Flavour::Plain && self.procs.is_none() => {
+                (self.flavour(Flavour::Coverage), Some(dir))
+            }
+            _ => (*self, None),
+        }
+    }
+}
+
+impl fmt::Display for Design {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.procs {
+            Some(n) => write!(f, "top of {n} {} pixel processors", self.processor)?,
+            None => write!(f, "{} pixel processor", self.processor)?,
+        }
+        if !self.exp_unit {
+            write!(f, " without its exponential")?;
+        }
+        write!(f, " (recip {}, sqrt {}", self.recip, self.sqrt)?;
+        if self.flavour != Flavour::Plain {
+            write!(f, ", {} model", self.flavour.name())?;
+        }
+        write!(f, ")")
+    }
+}
