@@ -685,6 +685,38 @@ fn bad_stall_values_are_refused_with_exit_2() {
     }
 }
 
+/// The speed line of a report: its simulated cycles per second are the
+/// frame cycles the report counts (the tiles' first coordinate in to last
+/// result out, summed) over its wall time, not the pixels' cycles summed.
+fn assert_speed_is_frame_cycles_over_wall_time(stdout: &str) {
+    let frame = number_in(stdout, "32 contexts,", " frame cycles (first coordinate");
+    let speed = stdout
+        .lines()
+        .find(|l| l.contains(" simulated cycles/s ("))
+        .unwrap_or_else(|| panic!("no speed line in\n{stdout}"));
+    let field = |after: &str, before: &str| -> f64 {
+        let from = speed.find(after).expect("the field") + after.len();
+        let to = from + speed[from..].find(before).expect("its end");
+        speed[from..to]
+            .trim()
+            .parse()
+            .unwrap_or_else(|e| panic!("{speed}: {e}"))
+    };
+    let seconds = field(" pixels in ", " s: ");
+    let m_per_s = field("pixels/s, ", " M simulated cycles/s");
+    let counted = field("cycles/s (", " frame cycles;");
+    assert_eq!(counted as u64, frame, "{speed}");
+    let pixel_cycles = number_in(stdout, "cycles: RTL", ", golden") as f64;
+    assert!(pixel_cycles > 2.0 * frame as f64, "{stdout}");
+    // The line rounds seconds to 0.01 and the speed to 0.01 M.
+    let lo = frame as f64 / (seconds + 0.005) / 1e6 - 0.005;
+    let hi = frame as f64 / (seconds - 0.005).max(1e-3) / 1e6 + 0.005;
+    assert!(
+        (lo..=hi).contains(&m_per_s),
+        "{speed}: not {frame} / {seconds} s"
+    );
+}
+
 /// The fast processor through the binary: a window agrees in events,
 /// colours and cycles, the report names the processor and says the frame
 /// took the cycles the barrel rule predicts; an injected fault fails the
@@ -718,6 +750,33 @@ fn the_fast_processor_agrees_and_its_bad_requests_are_refused() {
     assert_eq!(number_in(&stdout, "events:", " differ"), 0, "{stdout}");
     assert!(number_in(&stdout, "events:", " compared") > 0, "{stdout}");
     assert!(stdout.contains("PASS: "), "{stdout}");
+    assert_speed_is_frame_cycles_over_wall_time(&stdout);
+    // The check fails on a speed that is not the frame cycles' (here, the
+    // pixels' cycles summed over the same time).
+    let speed = stdout
+        .lines()
+        .find(|l| l.contains(" M simulated"))
+        .expect("a speed line");
+    let seconds: f64 = speed
+        .split(" pixels in ")
+        .nth(1)
+        .and_then(|r| r.split(" s: ").next())
+        .expect("s")
+        .parse()
+        .expect("seconds");
+    let summed = number_in(&stdout, "cycles: RTL", ", golden") as f64 / seconds.max(0.01) / 1e6;
+    let m = speed
+        .split("pixels/s, ")
+        .nth(1)
+        .and_then(|r| r.split(" M simulated").next())
+        .expect("m");
+    let wrong = stdout.replace(
+        &format!("{m} M simulated"),
+        &format!("{summed:.2} M simulated"),
+    );
+    assert!(
+        std::panic::catch_unwind(|| assert_speed_is_frame_cycles_over_wall_time(&wrong)).is_err()
+    );
 
     let out = rtcosim(&[
         "cosim",

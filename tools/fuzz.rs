@@ -82,6 +82,8 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     let indices = campaign.indices(shard.unwrap_or(Shard::WHOLE));
+    rtcosim::campaign::fuzz::check_models(args.processor)
+        .map_err(|e| anyhow::anyhow!("fuzz draws every method pair, and needs {e}"))?;
     let pool = args.threads.pool()?;
     let threads = pool.current_num_threads();
     let mut out = std::io::stdout().lock();

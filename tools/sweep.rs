@@ -109,6 +109,10 @@ pub fn run(args: SweepArgs) -> Result<bool> {
     // Every path, the whole run's and a shard's, reads the scenes back
     // from the configuration's text, as a merge does.
     let scenes = config.load_scenes()?;
+    if config.rtl {
+        sweep::check_rtl_models(&config.grid().configs(), &scenes)
+            .map_err(|e| anyhow::anyhow!("the RTL confirmation (--no-rtl skips it) needs {e}"))?;
+    }
     let pool = args.threads.pool()?;
     let measured = measure(&config, &scenes, shard.unwrap_or(Shard::WHOLE), &pool)?;
     match shard {

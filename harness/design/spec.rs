@@ -206,6 +206,46 @@ impl Design {
         }
     }
 
+    /// [`Design::check`] on every design of `designs`: the first refusal of
+    /// a design no build makes, or, for those this build lacks, one error
+    /// naming the first and every cargo feature they need together.
+    pub fn check_all(designs: impl IntoIterator<Item = Design>) -> Result<(), PpError> {
+        let mut lacking: Vec<Design> = Vec::new();
+        let mut features: Vec<&str> = Vec::new();
+        for design in designs {
+            if let Some(why) = design.refusal() {
+                return Err(PpError::NotBuilt {
+                    design: design.to_string(),
+                    why,
+                });
+            }
+            match BUILT.iter().find(|(c, _, _)| *c == design.class()) {
+                Some((_, _, true)) => {}
+                Some((_, needs, false)) => {
+                    lacking.push(design);
+                    features.extend(needs.iter().copied());
+                }
+                None => design.check()?,
+            }
+        }
+        features.sort_unstable();
+        features.dedup();
+        match lacking.first() {
+            None => Ok(()),
+            Some(first) => Err(PpError::NotBuilt {
+                design: match lacking.len() {
+                    1 => first.to_string(),
+                    n => format!(
+                        "{first} and {} other design{}",
+                        n - 1,
+                        if n == 2 { "" } else { "s" }
+                    ),
+                },
+                why: how_to_build(&features),
+            }),
+        }
+    }
+
     /// [`Design::check`], and that the design is driven by `driver`.
     pub(crate) fn check_driver(&self, driver: Driver) -> Result<(), PpError> {
         self.check()?;
@@ -252,5 +292,111 @@ impl fmt::Display for Design {
             write!(f, ", {} model", self.flavour.name())?;
         }
         write!(f, ")")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::models::FULL;
+    use golden::fp::Method::{Exact, Fast};
+
+    /// Every design a command can name is one row of the table, or one
+    /// refusal: the table, the class names and the refusals agree.
+    #[test]
+    fn every_design_is_a_row_of_the_table_or_refused() {
+        let mut rows = 0;
+        for processor in ProcessorKind::ALL {
+            for flavour in Flavour::ALL {
+                for (recip, sqrt) in [(Exact, Exact), (Exact, Fast), (Fast, Exact), (Fast, Fast)] {
+                    for exp_unit in [true, false] {
+                        let d = Design::new(processor, recip, sqrt)
+                            .exp_unit(exp_unit)
+                            .flavour(flavour);
+                        let in_table = BUILT.iter().any(|(c, _, _)| *c == d.class());
+                        assert_eq!(d.refusal().is_none(), in_table, "{d}: {:?}", d.refusal());
+                        rows += usize::from(in_table);
+                    }
+                }
+            }
+        }
+        // Compact: 4 pairs x (plain, wave, coverage) + mutant + synth; fast:
+        // 5 variants x (plain, wave, coverage) + mutant.
+        assert_eq!(rows, 14 + 16);
+        let classes: Vec<&str> = BUILT.iter().map(|(c, _, _)| *c).collect();
+        let mut unique = classes.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), classes.len(), "a class twice in the table");
+    }
+
+    /// What no build makes is refused, each for its reason.
+    #[test]
+    fn the_refusals_say_why() {
+        let compact = Design::compact(Exact, Exact);
+        let fast = Design::fast(Exact, Exact);
+        let cases = [
+            (compact.exp_unit(false), "always has its exponential"),
+            (compact.procs(Some(9)), "has 1 to 8 of them"),
+            (fast.procs(Some(65)), "has 1 to 64 of them"),
+            (
+                fast.procs(Some(2)).exp_unit(false),
+                "with the exponential only",
+            ),
+            (compact.procs(Some(4)).flavour(Flavour::Wave), "plain only"),
+            (
+                Design::compact(Fast, Exact).flavour(Flavour::Mutant),
+                "exact methods only",
+            ),
+            (fast.flavour(Flavour::Synth), "no synthesized netlist model"),
+        ];
+        for (design, why) in cases {
+            let refusal = design
+                .refusal()
+                .unwrap_or_else(|| panic!("{design} is not refused"));
+            assert!(refusal.contains(why), "{design}: {refusal}");
+            let err = design.check().expect_err("refused").to_string();
+            assert!(err.contains(why), "{err}");
+        }
+        // A top of an N outside the table is made by name.
+        let e = compact
+            .procs(Some(3))
+            .check()
+            .expect_err("not built")
+            .to_string();
+        assert!(
+            e.contains("RTCOSIM_TOPS=3:exact:exact cargo build --release"),
+            "{e}"
+        );
+    }
+
+    /// Designs this build lacks are refused together, with every cargo
+    /// feature they need; the default build's own design never is.
+    #[test]
+    fn lacking_designs_name_every_feature_they_need() {
+        let exact = Design::compact(Exact, Exact);
+        assert!(exact.check().is_ok(), "the default build's design");
+        let flavours = [Flavour::Coverage, Flavour::Mutant, Flavour::Synth];
+        let lacking: Vec<Design> = flavours
+            .iter()
+            .map(|&f| exact.flavour(f))
+            .filter(|d| d.check().is_err())
+            .collect();
+        let mut want: Vec<&str> = lacking.iter().filter_map(|d| d.flavour.feature()).collect();
+        want.sort_unstable();
+        match Design::check_all(flavours.iter().map(|&f| exact.flavour(f))) {
+            Ok(()) => assert!(lacking.is_empty()),
+            Err(e) => {
+                let e = e.to_string();
+                assert!(e.contains(&format!("--features {}", want.join(","))), "{e}");
+                assert!(e.starts_with(&lacking[0].to_string()), "{e}");
+            }
+        }
+        // The features `full` turns on make every plain and waveform model.
+        for (class, features, built) in BUILT {
+            if features.iter().all(|f| FULL.contains(f)) && cfg!(feature = "full") {
+                assert!(built, "{class} needs only {features:?} but is not built");
+            }
+        }
     }
 }

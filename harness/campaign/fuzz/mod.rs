@@ -139,6 +139,16 @@ pub struct FuzzOptions {
     pub processor: ProcessorKind,
 }
 
+/// Refuses, before any scene runs, a campaign on `processor` that would
+/// need a model this build lacks: the generator draws every method pair.
+pub fn check_models(processor: ProcessorKind) -> Result<(), PpError> {
+    let all = golden::fp::Method::ALL;
+    Design::check_all(
+        all.into_iter()
+            .flat_map(|recip| all.map(|sqrt| Design::new(processor, recip, sqrt))),
+    )
+}
+
 /// A worker's models, one per design (the campaign's processor with each
 /// method pair the scenes draw), built when first needed.
 type Models = Vec<(Design, Dut)>;

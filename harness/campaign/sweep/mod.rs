@@ -856,6 +856,32 @@ impl Config {
     }
 }
 
+/// Refuses, before anything is measured, a run whose RTL confirmation
+/// would need a model this build lacks: the build each of `configs` of each
+/// of `scenes` is priced as (and so co-simulated on) must be a design of
+/// this build ([`crate::output::device::Build::design`]).
+pub fn check_rtl_models(
+    configs: &[Config],
+    scenes: &[Scene],
+) -> Result<(), crate::design::PpError> {
+    let table = crate::output::device::CostTable::builtin_ref().ok();
+    let mut designs = Vec::new();
+    for scene in scenes {
+        for config in configs {
+            let build = config.build(scene);
+            let priced = table
+                .and_then(|t| t.build_for(build).ok())
+                .map_or(build, |cost| cost.build);
+            let design = crate::design::Design::new(priced.processor, priced.recip, priced.sqrt)
+                .exp_unit(priced.exposure);
+            if !designs.contains(&design) {
+                designs.push(design);
+            }
+        }
+    }
+    crate::design::Design::check_all(designs)
+}
+
 impl RtlCheck {
     /// How `config` of the scene `name` is checked on the RTL: on the
     /// build the cost table prices it as (so that what is co-simulated is
