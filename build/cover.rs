@@ -119,32 +119,7 @@ pub(crate) fn write_cover_module(
     }
     let mut pairs = BTreeSet::new();
     for table in m.tables {
-        let text_of = fs::read_to_string(manifest.join(table))
-            .map_err(|e| format!("reading {table}: {e}"))?;
-        // The controller the table was made from: `# <file> fnv1a64 <hash>`.
-        let (file, recorded) = text_of
-            .lines()
-            .find_map(|l| {
-                let mut w = l.strip_prefix("# ")?.split_whitespace();
-                match (w.next(), w.next(), w.next()) {
-                    (Some(f), Some("fnv1a64"), Some(h)) => Some((f.to_string(), h.to_string())),
-                    _ => None,
-                }
-            })
-            .ok_or_else(|| format!("{table} names no controller (`# <file> fnv1a64 <hash>`)"))?;
-        let controller = ["rtl/pp", "rtl/fast"]
-            .iter()
-            .map(|d| manifest.join(d).join(&file))
-            .find(|p| p.exists())
-            .ok_or_else(|| format!("{table} was made from {file}, which rtl/ lacks"))?;
-        let hash = fnv1a64(&controller)?;
-        if recorded != hash {
-            return Err(format!(
-                "{table} was made from another {file} (fnv1a64 now {hash}): re-derive it \
-                 (rtl/cover/transitions.sh for pp_ctrl.transitions, needs yosys; the \
-                 table's header for the others) and commit the new table"
-            ));
-        }
+        let text_of = current_table(manifest, table)?;
         for (i, line) in text_of.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
@@ -165,4 +140,36 @@ pub(crate) fn write_cover_module(
     }
     text += "endmodule\n`default_nettype wire\n";
     fs::write(out, text).map_err(|e| format!("writing {}: {e}", out.display()))
+}
+
+/// The text of the transition table `table`, refused if it was made from
+/// another controller than today's (its `# <file> fnv1a64 <hash>` line).
+fn current_table(manifest: &Path, table: &str) -> Result<String, String> {
+    let text_of =
+        fs::read_to_string(manifest.join(table)).map_err(|e| format!("reading {table}: {e}"))?;
+    // The controller the table was made from: `# <file> fnv1a64 <hash>`.
+    let (file, recorded) = text_of
+        .lines()
+        .find_map(|l| {
+            let mut w = l.strip_prefix("# ")?.split_whitespace();
+            match (w.next(), w.next(), w.next()) {
+                (Some(f), Some("fnv1a64"), Some(h)) => Some((f.to_string(), h.to_string())),
+                _ => None,
+            }
+        })
+        .ok_or_else(|| format!("{table} names no controller (`# <file> fnv1a64 <hash>`)"))?;
+    let controller = ["rtl/pp", "rtl/fast"]
+        .iter()
+        .map(|d| manifest.join(d).join(&file))
+        .find(|p| p.exists())
+        .ok_or_else(|| format!("{table} was made from {file}, which rtl/ lacks"))?;
+    let hash = fnv1a64(&controller)?;
+    if recorded != hash {
+        return Err(format!(
+            "{table} was made from another {file} (fnv1a64 now {hash}): re-derive it \
+             (rtl/cover/transitions.sh for pp_ctrl.transitions, needs yosys; the \
+             table's header for the others) and commit the new table"
+        ));
+    }
+    Ok(text_of)
 }

@@ -435,7 +435,6 @@ fn code(methods: &[(String, u32)], name: &str) -> Result<u32, String> {
 
 /// How Verilator is asked for the model `m`.
 fn job(m: &Model, dirs: &Dirs, methods: &[(String, u32)], s: &Sources) -> Result<Job, String> {
-    let rel = |d: &[&str]| d.iter().map(PathBuf::from).collect::<Vec<_>>();
     let mut j = Job {
         class: m.class.clone(),
         top: "",
@@ -489,52 +488,64 @@ fn job(m: &Model, dirs: &Dirs, methods: &[(String, u32)], s: &Sources) -> Result
             exposure,
             top,
         } => {
-            let fast = *rtl == Rtl::Fast;
-            j.top = if top.is_some() { "top" } else { rtl.module() };
-            j.defines = vec!["PP_TRACE"];
             j.params = vec![
                 ("RECIP_METHOD", code(methods, recip)?),
                 ("SQRT_METHOD", code(methods, sqrt)?),
             ];
-            (j.includes, j.sources) = match (fast, m.flavour) {
-                (false, Flavour::Coverage) => (rel(&["rtl/pp", "rtl/fp"]), s.cov[0].clone()),
-                (true, Flavour::Coverage) => {
-                    (rel(&["rtl/fast", "rtl/fp", "rtl/pp"]), s.cov[1].clone())
-                }
-                (false, _) => (vec![dirs.pp.clone(), dirs.fp.clone()], s.pp.clone()),
-                (true, _) => (
-                    vec![dirs.fast.clone(), dirs.fp.clone(), dirs.pp.clone()],
-                    s.fast.clone(),
-                ),
-            };
-            if m.flavour == Flavour::Coverage {
-                j.defines.push("PP_COVER");
-            }
-            if let Some(t) = top {
-                j.sources.insert(0, dirs.manifest.join("rtl/top.v"));
-                j.params.insert(0, ("N", t.procs));
-                if fast {
-                    j.params.extend([("FAST", 1), ("ARB_GROUP", t.group)]);
-                }
-            } else if fast {
-                j.params.push(("EXPOSURE", u32::from(*exposure)));
-            }
-            if m.flavour.is_yosys_netlist() {
-                // Elaborated by Yosys: defines and parameters are in.
-                j.defines.clear();
-                j.params.clear();
-                j.includes.clear();
-                j.sources = vec![match m.flavour {
-                    Flavour::Synth => s
-                        .synth
-                        .clone()
-                        .ok_or("the synthesized netlist was not made")?,
-                    _ => s.mutant(*rtl)?.clone(),
-                }];
-            }
+            processor_job(&mut j, (*rtl, *exposure, *top), dirs, s)?;
         }
     }
     Ok(j)
+}
+
+/// The rest of a processor's job (`j` has its class, flavour and method
+/// parameters): alone or in `rtl/top.v`, its sources, defines and the
+/// parameters of its shape; a Yosys netlist has them all elaborated in.
+fn processor_job(
+    j: &mut Job,
+    (rtl, exposure, top): (Rtl, bool, Option<models::TopShape>),
+    dirs: &Dirs,
+    s: &Sources,
+) -> Result<(), String> {
+    let rel = |d: &[&str]| d.iter().map(PathBuf::from).collect::<Vec<_>>();
+    let fast = rtl == Rtl::Fast;
+    j.top = if top.is_some() { "top" } else { rtl.module() };
+    j.defines = vec!["PP_TRACE"];
+    (j.includes, j.sources) = match (fast, j.flavour) {
+        (false, Flavour::Coverage) => (rel(&["rtl/pp", "rtl/fp"]), s.cov[0].clone()),
+        (true, Flavour::Coverage) => (rel(&["rtl/fast", "rtl/fp", "rtl/pp"]), s.cov[1].clone()),
+        (false, _) => (vec![dirs.pp.clone(), dirs.fp.clone()], s.pp.clone()),
+        (true, _) => (
+            vec![dirs.fast.clone(), dirs.fp.clone(), dirs.pp.clone()],
+            s.fast.clone(),
+        ),
+    };
+    if j.flavour == Flavour::Coverage {
+        j.defines.push("PP_COVER");
+    }
+    if let Some(t) = top {
+        j.sources.insert(0, dirs.manifest.join("rtl/top.v"));
+        j.params.insert(0, ("N", t.procs));
+        if fast {
+            j.params.extend([("FAST", 1), ("ARB_GROUP", t.group)]);
+        }
+    } else if fast {
+        j.params.push(("EXPOSURE", u32::from(exposure)));
+    }
+    if j.flavour.is_yosys_netlist() {
+        // Elaborated by Yosys: defines and parameters are in.
+        j.defines.clear();
+        j.params.clear();
+        j.includes.clear();
+        j.sources = vec![match j.flavour {
+            Flavour::Synth => s
+                .synth
+                .clone()
+                .ok_or("the synthesized netlist was not made")?,
+            _ => s.mutant(rtl)?.clone(),
+        }];
+    }
+    Ok(())
 }
 
 /// Verilates every job, each in a thread of its own (Verilator is single

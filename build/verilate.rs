@@ -32,6 +32,22 @@ pub(crate) struct CppFile {
 pub(crate) fn verilate(v: &Verilator, m: &Job, out: &Path) -> Result<Vec<CppFile>, String> {
     let mdir = out.join(&m.class);
     let _ = fs::remove_dir_all(&mdir);
+    let o = command(v, m, &mdir)?
+        .output()
+        .map_err(|e| format!("running {}: {e}", v.bin.display()))?;
+    if !o.status.success() {
+        return Err(format!(
+            "verilator failed on {} ({}):\n{}",
+            m.class,
+            m.top,
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    classes_mk(v, &mdir.join(format!("{}_classes.mk", m.class)), &mdir)
+}
+
+/// The `verilator --cc` command of `m`, into `mdir`.
+fn command(v: &Verilator, m: &Job, mdir: &Path) -> Result<std::process::Command, String> {
     let mut cmd = v.command();
     cmd.args([
         "--cc",
@@ -47,7 +63,7 @@ pub(crate) fn verilate(v: &Verilator, m: &Job, out: &Path) -> Result<Vec<CppFile
     .arg("--prefix")
     .arg(&m.class)
     .arg("-Mdir")
-    .arg(&mdir);
+    .arg(mdir);
     for inc in &m.includes {
         cmd.arg(format!("-I{}", inc.display()));
     }
@@ -89,19 +105,13 @@ pub(crate) fn verilate(v: &Verilator, m: &Job, out: &Path) -> Result<Vec<CppFile
         cmd.arg(format!("-G{name}={value}"));
     }
     cmd.args(&m.sources);
-    let o = cmd
-        .output()
-        .map_err(|e| format!("running {}: {e}", v.bin.display()))?;
-    if !o.status.success() {
-        return Err(format!(
-            "verilator failed on {} ({}):\n{}",
-            m.class,
-            m.top,
-            String::from_utf8_lossy(&o.stderr)
-        ));
-    }
-    let mk = mdir.join(format!("{}_classes.mk", m.class));
-    let text = fs::read_to_string(&mk).map_err(|e| format!("reading {}: {e}", mk.display()))?;
+    Ok(cmd)
+}
+
+/// The C++ files the generated `V<class>_classes.mk` lists: the model's
+/// classes (in `mdir`) and the runtime files it asks for.
+fn classes_mk(v: &Verilator, mk: &Path, mdir: &Path) -> Result<Vec<CppFile>, String> {
+    let text = fs::read_to_string(mk).map_err(|e| format!("reading {}: {e}", mk.display()))?;
     let mut files = Vec::new();
     let mut current = None;
     for line in text.lines() {

@@ -180,7 +180,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     }
     let design = args.design(&scene)?;
     args.coverage.enable()?;
-    args.wave.check(args.out.as_deref())?;
+    args.wave.check(
+        args.out.as_deref(),
+        &Replay::of(&design, args.stall(), window, window.y),
+    )?;
     // Fail before a long run, not after it.
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;

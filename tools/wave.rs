@@ -39,7 +39,14 @@ impl WaveArgs {
     /// Fails unless --wave-out, when the window would be written there (with
     /// --wave and no run directory), names a file in an existing directory:
     /// before the run, not after it.
-    pub fn check(&self, dir: Option<&Path>) -> Result<()> {
+    /// With --wave, `twin` (the design's waveform twin) must be in this
+    /// build: refused before the run, with the feature that builds it.
+    pub fn check(&self, dir: Option<&Path>, twin: &Replay) -> Result<()> {
+        if let Some(k) = self.wave {
+            twin.design
+                .check()
+                .map_err(|e| anyhow::anyhow!("--wave {k} re-runs a divergence on {e}"))?;
+        }
         if self.wave.is_none() || dir.is_some() {
             return Ok(());
         }
@@ -77,11 +84,18 @@ impl WaveArgs {
             writeln!(out, "--wave {k}: no divergence, so no waveform was written")?;
             return Ok(None);
         };
+        let replay = replay(d.y);
+        // --out's window, unasked: skipped, said why, where this build has
+        // no waveform twin.
+        if let (None, Err(e)) = (self.wave, replay.design.check()) {
+            writeln!(out, "\nwaveform: not written: {e}")?;
+            return Ok(None);
+        }
         let path = match dir {
             Some(dir) => dir.join(wave::FST_NAME),
             None => self.wave_out.clone(),
         };
-        let w = wave::write_divergence(scene, report.fault, d, k, &path, replay(d.y))
+        let w = wave::write_divergence(scene, report.fault, d, k, &path, replay)
             .with_context(|| format!("--wave {k}: pixel ({}, {})", d.x, d.y))?;
         let why = match w.at {
             DivergenceAt::Event { seq, state } => format!(
