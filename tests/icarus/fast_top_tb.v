@@ -122,21 +122,16 @@ module fast_top_tb;
 
     `include "tb_clock.vh"
 
-    reg [1023:0] scene_file, pixel_file;
-    integer      n_writes, n_pixels, i, p, given, taken, quiet, cycle, first_in, last_out;
+    `include "tb_stimulus.vh"
+
+    integer      i, p, given, taken, quiet, cycle, first_in, last_out;
     integer      fault_state_arg;
 
     initial begin
-        if (!$value$plusargs("scene=%s", scene_file) || !$value$plusargs("writes=%d", n_writes) ||
-            !$value$plusargs("pixels=%s", pixel_file) || !$value$plusargs("count=%d", n_pixels)) begin
-            $display("ERROR: usage: +scene=FILE +writes=N +pixels=FILE +count=M [+fault_state=S +fault_xor=H]");
-            $finish;
-        end
+        load_stimulus(" [+fault_state=S +fault_xor=H]");
         if (!$value$plusargs("fault_state=%d", fault_state_arg)) fault_state_arg = 0;
         if (!$value$plusargs("fault_xor=%h", fault_xor)) fault_xor = 32'd0;
         fault_state = fault_state_arg[SW-1:0];
-        $readmemh(scene_file, writes, 0, n_writes - 1);
-        $readmemh(pixel_file, pixels, 0, n_pixels - 1);
 
         // Reset: rst_n low for two rising edges (verilated_owned.h).
         clk        = 1'b0;

@@ -101,8 +101,9 @@ module pp_tb;
         end
     endtask
 
-    reg [1023:0] scene_file, pixel_file;
-    integer      n_writes, n_pixels, i, cycles, edges;
+    `include "tb_stimulus.vh"
+
+    integer      i, cycles, edges;
     reg          finished, trace;
 
 `ifndef MUTANTS
@@ -117,14 +118,8 @@ module pp_tb;
 `endif
 
     initial begin
-        if (!$value$plusargs("scene=%s", scene_file) || !$value$plusargs("writes=%d", n_writes) ||
-            !$value$plusargs("pixels=%s", pixel_file) || !$value$plusargs("count=%d", n_pixels)) begin
-            $display("ERROR: usage: +scene=FILE +writes=N +pixels=FILE +count=M");
-            $finish;
-        end
+        load_stimulus("");
         trace = $test$plusargs("trace");
-        $readmemh(scene_file, writes, 0, n_writes - 1);
-        $readmemh(pixel_file, pixels, 0, n_pixels - 1);
 
         // Reset: rst_n low for two rising edges.
         clk        = 1'b0;

@@ -83,19 +83,14 @@ module top_tb;
 
     `include "tb_clock.vh"
 
-    reg [1023:0] scene_file, pixel_file;
-    integer      n_writes, n_pixels, i, given, taken, quiet, seed, stall;
+    `include "tb_stimulus.vh"
+
+    integer      i, given, taken, quiet, seed, stall;
 
     initial begin
-        if (!$value$plusargs("scene=%s", scene_file) || !$value$plusargs("writes=%d", n_writes) ||
-            !$value$plusargs("pixels=%s", pixel_file) || !$value$plusargs("count=%d", n_pixels)) begin
-            $display("ERROR: usage: +scene=FILE +writes=N +pixels=FILE +count=M [+seed=S +stall=P]");
-            $finish;
-        end
+        load_stimulus(" [+seed=S +stall=P]");
         if (!$value$plusargs("seed=%d", seed)) seed = 1;
         if (!$value$plusargs("stall=%d", stall)) stall = 0;
-        $readmemh(scene_file, writes, 0, n_writes - 1);
-        $readmemh(pixel_file, pixels, 0, n_pixels - 1);
 
         clk        = 1'b0;
         rst_n      = 1'b0;
