@@ -298,6 +298,7 @@ impl fmt::Display for Design {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::built::require;
     use crate::design::models::FULL;
     use golden::fp::Method::{Exact, Fast};
 
@@ -328,6 +329,46 @@ mod tests {
         unique.sort_unstable();
         unique.dedup();
         assert_eq!(unique.len(), classes.len(), "a class twice in the table");
+    }
+
+    /// The table, the C++ drivers' lists and the harness agree: every
+    /// design this build made opens (the bridge finds its class), and
+    /// every float unit this build made builds.
+    #[test]
+    fn every_built_design_opens() {
+        let mut opened = 0;
+        for processor in ProcessorKind::ALL {
+            for flavour in [Flavour::Plain, Flavour::Wave] {
+                for (recip, sqrt) in [(Exact, Exact), (Exact, Fast), (Fast, Exact), (Fast, Fast)] {
+                    for exp_unit in [true, false] {
+                        let d = Design::new(processor, recip, sqrt)
+                            .exp_unit(exp_unit)
+                            .flavour(flavour);
+                        if d.check().is_ok() {
+                            d.open().unwrap_or_else(|e| panic!("{d}: {e}"));
+                            opened += 1;
+                        }
+                    }
+                }
+            }
+            let top = Design::new(processor, Exact, Exact).procs(Some(2));
+            for d in [top, top.procs(Some(1)), top.procs(Some(4))] {
+                if d.check().is_ok() {
+                    d.open().unwrap_or_else(|e| panic!("{d}: {e}"));
+                    opened += 1;
+                }
+            }
+        }
+        assert!(opened >= 1, "the default build's design opens");
+        if cfg!(feature = "full") {
+            // 8 + 10 alone and their waveform twins, 3 tops.
+            assert_eq!(opened, 21);
+        }
+        for kind in crate::design::fp_unit::UnitKind::every() {
+            if require(&kind.class()).is_ok() {
+                crate::design::fp_unit::FpUnit::new(kind).unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
     }
 
     /// What no build makes is refused, each for its reason.
