@@ -107,10 +107,16 @@ pub enum Radix {
     Hex,
 }
 
-/// A processor's mutant list and the classification of its survivors
-/// (`rtl/mutate/`).
+/// Where one processor's mutants are committed: the list its mutant
+/// netlist is built from and its survivors' classification
+/// (`rtl/mutate/<design>.mutants`, `.survivors`), as built into this
+/// rtcosim, with their paths in the checkout for messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MutantFiles {
+    pub processor: ProcessorKind,
+    /// `mutants.sh`'s name for the design (`MUTATE_DESIGN`): the module it
+    /// mutates.
+    pub design: &'static str,
     pub list_path: &'static str,
     pub list_text: &'static str,
     pub survivors_path: &'static str,
@@ -144,8 +150,7 @@ pub struct Processor {
     /// file's signals.
     pub wave_scope: &'static str,
     pub wave_signals: &'static [WaveGroup],
-    /// Its mutants (`MUTATE_DESIGN`, the module `mutants.sh` mutates).
-    pub mutant_design: &'static str,
+    /// Its mutants.
     pub mutants: MutantFiles,
     /// The float units cut from its mutant netlist.
     pub units: [UnitKind; 8],
@@ -171,6 +176,20 @@ const TRACE_PORT: &[(&str, WaveBits, Radix)] = &[
     ("trace_lanes", Lanes, Bin),
     ("trace_value", Value, Hex),
 ];
+
+/// `kind`'s [`MutantFiles`], named by its `MUTATE_DESIGN`.
+macro_rules! mutant_files {
+    ($kind:expr, $design:literal) => {
+        MutantFiles {
+            processor: $kind,
+            design: $design,
+            list_path: concat!("rtl/mutate/", $design, ".mutants"),
+            list_text: include_str!(concat!("../../rtl/mutate/", $design, ".mutants")),
+            survivors_path: concat!("rtl/mutate/", $design, ".survivors"),
+            survivors_text: include_str!(concat!("../../rtl/mutate/", $design, ".survivors")),
+        }
+    };
+}
 
 /// The rows, in [`ProcessorKind`] order.
 pub const PROCESSORS: [Processor; 2] = [
@@ -217,13 +236,7 @@ pub const PROCESSORS: [Processor; 2] = [
                 ],
             ),
         ],
-        mutant_design: "pixel_processor",
-        mutants: MutantFiles {
-            list_path: "rtl/mutate/pixel_processor.mutants",
-            list_text: include_str!("../../rtl/mutate/pixel_processor.mutants"),
-            survivors_path: "rtl/mutate/pixel_processor.survivors",
-            survivors_text: include_str!("../../rtl/mutate/pixel_processor.survivors"),
-        },
+        mutants: mutant_files!(ProcessorKind::Compact, "pixel_processor"),
         units: UnitKind::ALL,
         in_float_unit: |module| module.starts_with("fp_"),
         unreachable_path: "rtl/cover/pp_ctrl.unreachable",
@@ -295,13 +308,7 @@ pub const PROCESSORS: [Processor; 2] = [
                 ],
             ),
         ],
-        mutant_design: "fast_pp",
-        mutants: MutantFiles {
-            list_path: "rtl/mutate/fast_pp.mutants",
-            list_text: include_str!("../../rtl/mutate/fast_pp.mutants"),
-            survivors_path: "rtl/mutate/fast_pp.survivors",
-            survivors_text: include_str!("../../rtl/mutate/fast_pp.survivors"),
-        },
+        mutants: mutant_files!(ProcessorKind::Fast, "fast_pp"),
         units: UnitKind::PIPELINED,
         // Its own units, the fp_* they share and the fast_delays their
         // pipelines are built of (some of which are the controller's).

@@ -179,31 +179,7 @@ impl Design {
     /// Refuses a design no build makes ([`Design::refusal`]), or one this
     /// build did not make, naming the cargo features that make it.
     pub fn check(&self) -> Result<(), PpError> {
-        if let Some(why) = self.refusal() {
-            return Err(PpError::NotBuilt {
-                design: self.to_string(),
-                why,
-            });
-        }
-        let class = self.class();
-        match BUILT.iter().find(|(c, _, _)| *c == class) {
-            Some((_, _, true)) => Ok(()),
-            Some((_, features, false)) => Err(PpError::NotBuilt {
-                design: self.to_string(),
-                why: how_to_build(features),
-            }),
-            // A top of an N not in the table: asked for by name at build time.
-            None => Err(PpError::NotBuilt {
-                design: self.to_string(),
-                why: format!(
-                    "build it by name: RTCOSIM_TOPS={}{}:{}:{} cargo build --release",
-                    if self.row().contexts > 1 { "fast:" } else { "" },
-                    self.procs.unwrap_or(1),
-                    self.recip,
-                    self.sqrt
-                ),
-            }),
-        }
+        Design::check_all([*self])
     }
 
     /// [`Design::check`] on every design of `designs`: the first refusal of
@@ -225,7 +201,24 @@ impl Design {
                     lacking.push(design);
                     features.extend(needs.iter().copied());
                 }
-                None => design.check()?,
+                // A top of an N not in the table: asked for by name at
+                // build time.
+                None => {
+                    return Err(PpError::NotBuilt {
+                        design: design.to_string(),
+                        why: format!(
+                            "build it by name: RTCOSIM_TOPS={}{}:{}:{} cargo build --release",
+                            if design.row().contexts > 1 {
+                                "fast:"
+                            } else {
+                                ""
+                            },
+                            design.procs.unwrap_or(1),
+                            design.recip,
+                            design.sqrt
+                        ),
+                    })
+                }
             }
         }
         features.sort_unstable();

@@ -290,6 +290,7 @@ pub fn write_window(
                 one_pixel_window(&replay.design, scene, fault, x, y, divergence_seq, k, &fst)?
             }
             Driver::Streams => tile_window(
+                &replay.design,
                 scene,
                 fault,
                 x,
@@ -297,7 +298,7 @@ pub fn write_window(
                 divergence_seq,
                 k,
                 &fst,
-                (&replay.design, replay.tile, replay.stall),
+                (replay.tile, replay.stall),
             )?,
         };
     let at = match at {
@@ -352,7 +353,8 @@ fn divergence_at(
     }
 }
 
-/// [`write_window`] on the compact processor.
+/// [`write_window`] on a design driven one pixel at a time: the pixel
+/// twice from reset.
 #[allow(clippy::too_many_arguments)]
 fn one_pixel_window(
     design: &Design,
@@ -418,6 +420,7 @@ fn not_repeated(x: u32, y: u32, what: String) -> WaveError {
 /// [`write_window`] on a streamed design: `tile` fed twice from reset.
 #[allow(clippy::too_many_arguments)]
 fn tile_window(
+    design: &Design,
     scene: &Scene,
     fault: Option<Fault>,
     x: u32,
@@ -425,7 +428,7 @@ fn tile_window(
     divergence_seq: Option<u32>,
     k: u64,
     fst: &Path,
-    (design, tile, stall): (&Design, Window, Stall),
+    (tile, stall): (Window, Stall),
 ) -> Result<Rerun, WaveError> {
     let coords: Vec<(u32, u32)> = tile.iter().collect();
     let fst_error = |message: String| WaveError::Fst { x, y, message };

@@ -32,7 +32,7 @@ pub fn prove_equivalent(
         .arg("equiv")
         .args(ids.iter().map(u16::to_string))
         .env("MUTATE_CACHE", Path::new(env!("OUT_DIR")).join("mutate"))
-        .env("MUTATE_DESIGN", Files::of(processor).design())
+        .env("MUTATE_DESIGN", Files::of(processor).design)
         .output()
         .map_err(|e| format!("running {}: {e}", script.display()))?;
     if !o.status.success() {

@@ -52,34 +52,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-/// Where one processor's mutants are committed: the list the mutant
-/// netlist is built from and its survivors' classification, as built into
-/// this rtcosim, with their paths in the checkout for messages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Files {
-    pub processor: ProcessorKind,
-    pub list_path: &'static str,
-    pub list_text: &'static str,
-    pub survivors_path: &'static str,
-    pub survivors_text: &'static str,
-}
+pub use crate::design::processor::MutantFiles as Files;
 
 impl Files {
     /// `processor`'s files (its row's).
     pub fn of(processor: ProcessorKind) -> Files {
-        let m = processor.row().mutants;
-        Files {
-            processor,
-            list_path: m.list_path,
-            list_text: m.list_text,
-            survivors_path: m.survivors_path,
-            survivors_text: m.survivors_text,
-        }
-    }
-
-    /// `mutants.sh`'s name for the design (`MUTATE_DESIGN`).
-    pub fn design(&self) -> &'static str {
-        self.processor.row().mutant_design
+        processor.row().mutants
     }
 }
 
