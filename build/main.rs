@@ -63,6 +63,7 @@ fn main() {
         "rtl/pp",
         "rtl/fast",
         "rtl/top.v",
+        "rtl/rr_arbiter.v",
         cover::TRANSITIONS,
         cover::FAST_TRANSITIONS,
         "rtl/mutate/mutants.sh",
@@ -524,6 +525,7 @@ fn processor_job(
         j.defines.push("PP_COVER");
     }
     if let Some(t) = top {
+        j.sources.insert(0, dirs.manifest.join("rtl/rr_arbiter.v"));
         j.sources.insert(0, dirs.manifest.join("rtl/top.v"));
         j.params.insert(0, ("N", t.procs));
         if fast {

@@ -233,32 +233,10 @@ module top #(
     // ------------------------------------------------------------------------
     // Round-robin arbiter over the result slots, into the out register
     // ------------------------------------------------------------------------
-    // One-hot logic (no index arithmetic): the slots after the last grant
-    // first, else the first of all.
     reg  [PW-1:0]   rr_q;        // the last grant
-    reg  [S-1:0]    grant;       // one-hot
-    reg  [PW-1:0]   grant_at;    // its index
-    reg             grant_seen;
-    wire            grant_found = |res_valid;
-    integer         j;
-
-    always @* begin
-        grant      = {S{1'b0}};
-        grant_seen = 1'b0;
-        for (j = 0; j < S; j = j + 1)
-            if (res_valid[j] && j > {{(32 - PW){1'b0}}, rr_q} && !grant_seen) begin
-                grant[j]   = 1'b1;
-                grant_seen = 1'b1;
-            end
-        for (j = 0; j < S; j = j + 1)
-            if (res_valid[j] && !grant_seen) begin
-                grant[j]   = 1'b1;
-                grant_seen = 1'b1;
-            end
-        grant_at = {PW{1'b0}};
-        for (j = 0; j < S; j = j + 1)
-            if (grant[j]) grant_at = grant_at | j[PW-1:0];
-    end
+    wire [S-1:0]    grant;       // one-hot
+    wire [PW-1:0]   grant_at;    // its index
+    wire            grant_found;
 
     reg             out_valid_q;
     reg  [CW-1:0]   out_x_q, out_y_q;
@@ -274,18 +252,29 @@ module top #(
     wire [S*CTX_BITS-1:0] res_ctx_flat;
     wire [S*PW-1:0] res_proc_flat;
 
-    // The granted slot's result: an AND-OR over the slots.
+    // Each slot's result as one word, and the granted slot's.
     localparam integer OW = 2 * CW + PW + CTX_BITS + 96 + 32;
-    reg  [OW-1:0]   granted;
-    integer         j2;
-    always @* begin
-        granted = {OW{1'b0}};
-        for (j2 = 0; j2 < S; j2 = j2 + 1)
-            granted = granted | ({OW{grant[j2]}} &
-                      {res_x_flat[j2*CW +: CW], res_y_flat[j2*CW +: CW], res_proc_flat[j2*PW +: PW],
-                       res_ctx_flat[j2*CTX_BITS +: CTX_BITS], res_rgb_flat[j2*96 +: 96],
-                       res_cyc_flat[j2*32 +: 32]});
-    end
+    wire [S*OW-1:0] slot_words;
+    wire [OW-1:0]   granted;
+    genvar          gs;
+    generate
+        for (gs = 0; gs < S; gs = gs + 1) begin : g_slot
+            assign slot_words[gs*OW +: OW] =
+                {res_x_flat[gs*CW +: CW], res_y_flat[gs*CW +: CW], res_proc_flat[gs*PW +: PW],
+                 res_ctx_flat[gs*CTX_BITS +: CTX_BITS], res_rgb_flat[gs*96 +: 96],
+                 res_cyc_flat[gs*32 +: 32]};
+        end
+    endgenerate
+
+    rr_arbiter #(.N(S), .IW(PW), .DW(OW)) u_arb (
+        .req     (res_valid),
+        .last    (rr_q),
+        .data    (slot_words),
+        .grant   (grant),
+        .at      (grant_at),
+        .found   (grant_found),
+        .granted (granted)
+    );
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin
@@ -526,47 +515,34 @@ module top #(
                 reg  [95:0]         rgb_q;
                 reg  [31:0]         cyc_q;
                 reg  [GW-1:0]       last_q;
-                // Round robin as one-hot logic (no adder, no comparator): the
-                // members after the last pick first, else the first of all.
-                wire [COUNT-1:0] ready = pp_valid[FIRST +: COUNT];
-                reg  [COUNT-1:0] grant1;
-                reg  [GW-1:0]    member;
-                reg              found, seen;
-                integer          b;
-                always @* begin
-                    grant1 = {COUNT{1'b0}};
-                    seen   = 1'b0;
-                    for (b = 0; b < COUNT; b = b + 1)
-                        if (ready[b] && b > {{(32 - GW){1'b0}}, last_q} && !seen) begin
-                            grant1[b] = 1'b1;
-                            seen      = 1'b1;
-                        end
-                    for (b = 0; b < COUNT; b = b + 1)
-                        if (ready[b] && !seen) begin
-                            grant1[b] = 1'b1;
-                            seen      = 1'b1;
-                        end
-                    found  = |ready;
-                    member = {GW{1'b0}};
-                    for (b = 0; b < COUNT; b = b + 1)
-                        if (grant1[b]) member = member | b[GW-1:0];
+                // The members' queue heads, and the one picked round robin
+                // from the member after the last pick.
+                localparam integer HW = 2 * CW + CTX_BITS + 96 + 32;
+                wire [COUNT*HW-1:0] heads;
+                wire [COUNT-1:0]    grant1;
+                wire [GW-1:0]       member;
+                wire                found;
+                wire [HW-1:0]       head;
+                genvar              gm;
+                for (gm = 0; gm < COUNT; gm = gm + 1) begin : g_member
+                    assign heads[gm*HW +: HW] =
+                        {pp_x_flat[(FIRST + gm)*CW +: CW], pp_y_flat[(FIRST + gm)*CW +: CW],
+                         pp_ctx_flat[(FIRST + gm)*CTX_BITS +: CTX_BITS],
+                         pp_rgb_flat[(FIRST + gm)*96 +: 96], pp_cyc_flat[(FIRST + gm)*32 +: 32]};
                 end
+                rr_arbiter #(.N(COUNT), .IW(GW), .DW(HW)) u_arb (
+                    .req     (pp_valid[FIRST +: COUNT]),
+                    .last    (last_q),
+                    .data    (heads),
+                    .grant   (grant1),
+                    .at      (member),
+                    .found   (found),
+                    .granted (head)
+                );
 
                 wire        load = !v_q && found;
                 localparam [31:0] FIRST_W = FIRST;
                 wire [PW-1:0] who = FIRST_W[PW-1:0] + {{(PW - GW){1'b0}}, member};
-                // The picked member's head: an AND-OR over the members.
-                localparam integer HW = 2 * CW + CTX_BITS + 96 + 32;
-                reg [HW-1:0] head;
-                integer      b2;
-                always @* begin
-                    head = {HW{1'b0}};
-                    for (b2 = 0; b2 < COUNT; b2 = b2 + 1)
-                        head = head | ({HW{grant1[b2]}} &
-                               {pp_x_flat[(FIRST + b2)*CW +: CW], pp_y_flat[(FIRST + b2)*CW +: CW],
-                                pp_ctx_flat[(FIRST + b2)*CTX_BITS +: CTX_BITS],
-                                pp_rgb_flat[(FIRST + b2)*96 +: 96], pp_cyc_flat[(FIRST + b2)*32 +: 32]});
-                end
                 always @(posedge clk or negedge rst_n) begin
                     if (!rst_n) begin
                         v_q    <= 1'b0;

@@ -104,15 +104,19 @@ need_yosys() { command -v yosys >/dev/null || die "yosys is not on PATH (Debian:
 # attributes, and so the list, name rtl/...).
 cd "$root"
 sources=()
+headers=()
 includes=""
 for d in $src_dirs; do
     sources+=("$d"/*.v)
+    headers+=("$d"/*.vh)
     includes+=" -I$d"
 done
 
-# FNV-1a 64 over the sources' names and contents: the list's RTL.
+# FNV-1a 64 over the names and contents of the sources and of the headers
+# they include (isa.vh's state ids, the latencies of fp_defs.vh and
+# fast_defs.vh): the list's RTL.
 rtl_hash() {
-    python3 - "${sources[@]}" <<'PY'
+    python3 - "${sources[@]}" "${headers[@]}" <<'PY'
 import sys
 h = 0xcbf29ce484222325
 for path in sys.argv[1:]:

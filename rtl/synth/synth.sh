@@ -88,7 +88,7 @@ top)
     [ -n "$n" ] || { echo "$0: the top needs N" >&2; exit 2; }
     top=top
     # pixel_processor as a black box: its ports and parameters only.
-    read="read_verilog -lib -Irtl/fp -Irtl/pp rtl/pp/pixel_processor.v; read_verilog $inc rtl/top.v"
+    read="read_verilog -lib -Irtl/fp -Irtl/pp rtl/pp/pixel_processor.v; read_verilog $inc rtl/top.v rtl/rr_arbiter.v"
     params="$params -chparam N $n"
     out=$device-top-$methods-N$n
     ;;
@@ -96,7 +96,7 @@ fast-top)
     [ -n "$n" ] || { echo "$0: the top needs N" >&2; exit 2; }
     top=top
     # fast_pp as a black box: its ports and parameters only.
-    read="read_verilog -lib -Irtl/fp -Irtl/pp -Irtl/fast rtl/fast/fast_pp.v; read_verilog $inc -Irtl/fast rtl/top.v"
+    read="read_verilog -lib -Irtl/fp -Irtl/pp -Irtl/fast rtl/fast/fast_pp.v; read_verilog $inc -Irtl/fast rtl/top.v rtl/rr_arbiter.v"
     params="$params -chparam N $n -chparam FAST 1"
     out=$device-fast-top-$methods-N$n
     ;;
