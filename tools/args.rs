@@ -45,6 +45,15 @@ impl SceneArgs {
     }
 }
 
+/// Refuses a scene the micro-op model and the processors cannot trace
+/// ([`golden::micro::untraceable`]), naming it as `label`.
+pub fn traceable(label: &str, scene: &Scene) -> Result<()> {
+    match golden::micro::untraceable(scene) {
+        Some(why) => anyhow::bail!("{label}: {why}"),
+        None => Ok(()),
+    }
+}
+
 /// Worker threads.
 #[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ThreadsArgs {

@@ -3,7 +3,7 @@
 //! (section 4.11). A and B are each a frame file or a model rendered here;
 //! the maps and the table are `golden::diffmap`'s.
 
-use crate::args::{check_parent_dir, MethodArg, SceneArgs, ThreadsArgs};
+use crate::args::{check_parent_dir, traceable, MethodArg, SceneArgs, ThreadsArgs};
 use crate::render::Model;
 use crate::ui::progress_bar;
 use anyhow::{bail, Context, Result};
@@ -198,7 +198,11 @@ impl Side<'_> {
                 let mut args = args.clone();
                 args.recip = self.recip.or(args.recip);
                 args.sqrt = self.sqrt.or(args.sqrt);
-                Ok(Input::Model(*renderer, Box::new(args.load()?)))
+                let scene = args.load()?;
+                if *renderer != Renderer::Golden(Model::Reference) {
+                    traceable(&format!("side {} ({})", self.name, renderer.name()), &scene)?;
+                }
+                Ok(Input::Model(*renderer, Box::new(scene)))
             }
             Source::File(path) => {
                 if self.recip.is_some() || self.sqrt.is_some() {

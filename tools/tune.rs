@@ -3,7 +3,7 @@
 //! runs on co-simulated before it is recommended, and with --area the
 //! register file it needs against the full build's.
 
-use crate::args::{RtlCheckArgs, SceneArgs, ThreadsArgs};
+use crate::args::{traceable, RtlCheckArgs, SceneArgs, ThreadsArgs};
 use crate::ui::{progress_bar, progress_spinner};
 use anyhow::{Context, Result};
 use golden::fp::Method;
@@ -96,6 +96,7 @@ struct RtlAnswer {
 /// configuration meets the target or the RTL disagrees with golden on it.
 pub fn run(args: TuneArgs) -> Result<bool> {
     let scene = args.scene.load()?;
+    traceable(&format!("--scene {}", args.scene.scene), &scene)?;
     let pool = args.threads.pool()?;
     let processors: Vec<ProcessorKind> = args.processor.into_iter().collect();
     // The pick is co-simulated before it is recommended: any pick's model.

@@ -39,6 +39,20 @@
 //!   reflection values above it, 1 for the primary ray; f64) is not below
 //!   the scene's weight cutoff: a ray with `w·kr < weight_cutoff` is not
 //!   spawned (thesis 3.8, end; 0 = off).
+//! - Then `+ kt·shade(refracted ray, depth + 1)` when the material's
+//!   transmission `kt > 0` (spheres only), under the same depth and cutoff
+//!   rules with the weight `w·kt` (thesis 3.6: the refracted child comes
+//!   after the reflected one's whole subtree). The refracted ray is
+//!   Snell's law into the sphere (relative index `ior`: `eta = 1/ior`),
+//!   the chord to the far side, Snell's law out (`eta = ior`), and from
+//!   there a new open-air ray that skips the sphere. Where the entry
+//!   refracts nothing (total internal reflection: `ior < 1` and
+//!   `sin θ > ior`), the child is the mirror ray `r`. Constant weights
+//!   (Whitted's model, no Fresnel term), no reflection inside the sphere; a
+//!   transparent object blocks shadow rays like an opaque one (light
+//!   through it does not arrive in a straight line; the caustics it focuses
+//!   are outside this model). docs/scenes.md, "Refraction", is the
+//!   definition.
 //! - The exposure (thesis 3.7), when the scene sets one: each channel c of
 //!   the pixel becomes `1 - e^(exposure·c)` (f64 `exp`), which maps
 //!   [0, inf) into [0, 1) instead of letting colours over 1 clip.
@@ -267,7 +281,79 @@ fn shade(
     {
         color += kr * shade(scene, p, r, Some(obj), depth + 1, child);
     }
+    // Then the refracted child (thesis 3.6: when control returns to the
+    // ray): through the sphere and out of it, a new open-air ray one
+    // generation down; under total internal reflection at the entry, the
+    // mirror ray r.
+    let kt = f64::from(m.transmission);
+    let child = weight * kt;
+    if kt > 0.0
+        && depth + 1 < scene.render.max_depth
+        && child >= f64::from(scene.render.weight_cutoff)
+    {
+        let (o2, d2) = match transmitted(scene, obj, p, d, n) {
+            Transmitted::Out { exit, dir } => (exit, dir),
+            Transmitted::Reflected => (p, r),
+        };
+        color += kt * shade(scene, o2, d2, Some(obj), depth + 1, child);
+    }
     color
+}
+
+/// The refracted direction of the unit ray `d` at a surface of unit normal
+/// `n` facing it (`n·d <= 0`), from index 1 into index `eta` times the
+/// first's inverse (`eta` = n₁/n₂; Snell: n₁ sin θ₁ = n₂ sin θ₂):
+/// `eta·d + (eta·cos θ₁ - cos θ₂)·n` with `cos θ₂ = sqrt(k)`, `k = 1 -
+/// eta²(1 - cos² θ₁)`; `None` when `k < 0`, total internal reflection.
+pub fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
+    let cos_i = -n.dot(d);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    (k >= 0.0).then(|| eta * d + (eta * cos_i - k.sqrt()) * n)
+}
+
+/// Where the refracted child of a ray hitting a transparent sphere goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Transmitted {
+    /// Into the sphere, across it, and out at `exit` along the unit `dir`.
+    Out { exit: DVec3, dir: DVec3 },
+    /// Total internal reflection at the entry (the sphere the thinner
+    /// medium, `ior < 1`, beyond the critical angle): the mirror ray.
+    Reflected,
+}
+
+/// The refracted child of the unit ray `d` hitting transparent sphere
+/// `obj` at `p` (outward unit normal `n`): Snell's law into the sphere with
+/// `eta = 1/ior`; the chord to the sphere's far side (the far root of the
+/// sphere test from `p`, `t = -b + sqrt(r² - w·w)`); Snell's law out with
+/// `eta = ior` against the inward normal. On the way out `k >= 0` in exact
+/// arithmetic (a sphere's chord meets both ends at one angle, so the exit
+/// sees the entry's angles swapped); where rounding makes it negative, at a
+/// grazing exit, it is taken as 0: the ray leaves along the surface.
+pub fn transmitted(scene: &Scene, obj: Object, p: DVec3, d: DVec3, n: DVec3) -> Transmitted {
+    let Object::Sphere(i) = obj else {
+        unreachable!("a plane is never transparent (golden::scene refuses it)")
+    };
+    let s = &scene.spheres[i];
+    let ior = f64::from(s.material.ior);
+    let Some(inside) = refract(d, n, 1.0 / ior) else {
+        return Transmitted::Reflected;
+    };
+    let inside = inside.normalize_or_zero();
+    let (c, r) = (dvec(s.center), f64::from(s.radius));
+    let v = p - c;
+    let b = v.dot(inside);
+    let w = v - b * inside;
+    let exit = p + (-b + (r * r - w.dot(w)).max(0.0).sqrt()) * inside;
+    let n_out = (exit - c).normalize_or_zero();
+    let dir = refract(inside, -n_out, ior).unwrap_or_else(|| {
+        // k < 0 only by rounding: k = 0, cos θ₂ = 0.
+        let cos_i = inside.dot(n_out);
+        ior * inside - ior * cos_i * n_out
+    });
+    Transmitted::Out {
+        exit,
+        dir: dir.normalize_or_zero(),
+    }
 }
 
 /// The unit normal and the material of `obj` at its surface point `p`.
@@ -284,30 +370,66 @@ fn surface(scene: &Scene, obj: Object, p: DVec3) -> (DVec3, &crate::scene::Mater
     }
 }
 
-/// The discrete events along the path of pixel (px, py), level by level as
-/// [`render_pixel`] recurses: the object each ray hits and whether light
-/// reaches that point (the light visible and `n·l > 0`, the gate of both
-/// terms); ends at a miss or where the recursion stops. The colour is
-/// continuous in the primary direction wherever this does not change, so
-/// neighbouring pixels with different paths mark an edge: a silhouette, a
-/// shadow edge or terminator, or a reflection of one
-/// (`golden::stability::edge_mask`).
-pub fn path_events(scene: &Scene, px: u32, py: u32) -> Vec<(Object, bool)> {
-    let (mut o, mut d) = (dvec(scene.camera.eye), primary_direction(scene, px, py));
-    let mut from = None;
+/// Which child of its parent a ray of [`path_events`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ray {
+    Primary,
+    Reflected,
+    /// Through a transparent sphere and out of it.
+    Refracted,
+    /// The refracted child under total internal reflection: the mirror ray.
+    TotallyReflected,
+}
+
+/// The discrete events along the rays of pixel (px, py), in the order
+/// [`render_pixel`] visits them (depth first, the reflected child before
+/// the refracted one): which child each ray is, the object it hits and
+/// whether light reaches that point (the light visible and `n·l > 0`, the
+/// gate of both terms); a ray that misses, or a child the depth limit
+/// stops, adds nothing. The colour is continuous in the primary direction
+/// wherever this does not change, so neighbouring pixels with different
+/// events mark an edge: a silhouette, a shadow edge or terminator, the
+/// onset of total internal reflection, or a reflection or refraction of
+/// one (`golden::stability::edge_mask`).
+pub fn path_events(scene: &Scene, px: u32, py: u32) -> Vec<(Ray, Object, bool)> {
     let mut events = Vec::new();
-    for depth in 0..scene.render.max_depth {
-        let Some((obj, t)) = nearest_hit(scene, o, d, from) else {
-            break;
-        };
-        let p = o + t * d;
-        let (n, m) = surface(scene, obj, p);
-        let l = (dvec(scene.light.position) - p).normalize_or_zero();
-        events.push((obj, light_visible(scene, p, obj) && n.dot(l) > 0.0));
-        if m.reflection <= 0.0 || depth + 1 >= scene.render.max_depth {
-            break;
-        }
-        (o, d, from) = (p, d - 2.0 * d.dot(n) * n, Some(obj));
-    }
+    let d = primary_direction(scene, px, py);
+    path_walk(
+        scene,
+        (dvec(scene.camera.eye), d, None),
+        0,
+        Ray::Primary,
+        &mut events,
+    );
     events
+}
+
+fn path_walk(
+    scene: &Scene,
+    (o, d, from): (DVec3, DVec3, Option<Object>),
+    depth: u32,
+    ray: Ray,
+    events: &mut Vec<(Ray, Object, bool)>,
+) {
+    let Some((obj, t)) = nearest_hit(scene, o, d, from) else {
+        return;
+    };
+    let p = o + t * d;
+    let (n, m) = surface(scene, obj, p);
+    let l = (dvec(scene.light.position) - p).normalize_or_zero();
+    events.push((ray, obj, light_visible(scene, p, obj) && n.dot(l) > 0.0));
+    if depth + 1 >= scene.render.max_depth {
+        return;
+    }
+    let r = d - 2.0 * d.dot(n) * n;
+    if m.reflection > 0.0 {
+        path_walk(scene, (p, r, Some(obj)), depth + 1, Ray::Reflected, events);
+    }
+    if m.transparent() {
+        let (next, ray) = match transmitted(scene, obj, p, d, n) {
+            Transmitted::Out { exit, dir } => ((exit, dir, Some(obj)), Ray::Refracted),
+            Transmitted::Reflected => ((p, r, Some(obj)), Ray::TotallyReflected),
+        };
+        path_walk(scene, next, depth + 1, ray, events);
+    }
 }

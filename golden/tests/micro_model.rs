@@ -634,11 +634,13 @@ fn random_scenes_keep_the_invariants_and_follow_the_reference() -> TestResult {
     let mut over = 0usize;
     let mut rendered = [0usize; 4];
     for case in 0..64 {
-        let material = |rng: &mut rand_chacha::ChaCha8Rng| Material {
-            color: [0, 1, 2].map(|_| rng.random_range(0.1..1.0)),
-            diffuse: unit(rng),
-            specular: unit(rng),
-            reflection: unit(rng),
+        let material = |rng: &mut rand_chacha::ChaCha8Rng| {
+            Material::opaque(
+                [0, 1, 2].map(|_| rng.random_range(0.1..1.0)),
+                unit(rng),
+                unit(rng),
+                unit(rng),
+            )
         };
         let spheres = (0..rng.random_range(0..=4))
             .map(|_| Sphere {

@@ -45,6 +45,9 @@ pub enum PpError {
         /// The scene's exposure, as bits (the error is `Eq`).
         exposure_bits: u32,
     },
+    /// A scene the processors cannot trace ([`golden::micro::untraceable`]).
+    #[error("{0}")]
+    Untraceable(String),
     /// A pixel before any scene was loaded.
     #[error("no scene is loaded into the pixel processor")]
     NoScene,
@@ -151,9 +154,12 @@ impl std::fmt::Display for ProcessorId {
     }
 }
 
-/// Refuses `scene` unless it uses the float methods a model was verilated
-/// with.
-pub(crate) fn check_methods(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
+/// Refuses `scene` unless the processors can trace it and it uses the
+/// float methods a model was verilated with.
+pub(crate) fn check_scene(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
+    if let Some(why) = golden::micro::untraceable(scene) {
+        return Err(PpError::Untraceable(why));
+    }
     let r = &scene.render;
     if (r.recip, r.sqrt) != (recip, sqrt) {
         return Err(PpError::MethodMismatch {

@@ -30,7 +30,7 @@
 
 use crate::design::bridge::ffi;
 use crate::design::error::{
-    check_methods, scene_port_writes, Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES,
+    check_scene, scene_port_writes, Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES,
 };
 use crate::design::processor::Driver;
 use crate::design::spec::Design;
@@ -141,7 +141,7 @@ impl PixelProcessor {
     /// Resets the model and loads `scene` through the scene port. Refuses a
     /// scene whose recip/sqrt methods are not the model's.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
-        check_methods(scene, self.recip, self.sqrt)?;
+        check_scene(scene, self.recip, self.sqrt)?;
         self.reset()?;
         self.poisoned = true;
         for (cfg, addr, [x, y, z]) in scene_port_writes(scene) {

@@ -37,7 +37,7 @@
 
 use crate::design::bridge::ffi;
 use crate::design::error::{
-    check_methods, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
+    check_scene, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
     DEFAULT_TIMEOUT_CYCLES,
 };
 use crate::design::processor::Driver;
@@ -252,7 +252,7 @@ impl Top {
     /// Refuses `scene` unless the model can draw it: its float methods,
     /// and an exponential if it sets an exposure.
     fn check_scene(&self, scene: &Scene) -> Result<(), PpError> {
-        check_methods(scene, self.recip, self.sqrt)?;
+        check_scene(scene, self.recip, self.sqrt)?;
         match scene.render.exposure {
             Some(exposure) if !self.exp_unit => Err(PpError::NoExpUnit {
                 exposure_bits: exposure.to_bits(),

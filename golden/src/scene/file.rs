@@ -54,6 +54,12 @@ pub(super) struct RawSphere {
     pub diffuse: f64,
     pub specular: f64,
     pub reflection: f64,
+    /// Absent means 0 (opaque), and is not written.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub transmission: f64,
+    /// Absent means 1, and is not written.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub ior: f64,
 }
 
 #[derive(Deserialize, Serialize)]
@@ -66,6 +72,12 @@ pub(super) struct RawPlane {
     pub diffuse: f64,
     pub specular: f64,
     pub reflection: f64,
+    /// Absent means 0 (opaque), and is not written.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub transmission: f64,
+    /// Absent means 1, and is not written.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub ior: f64,
 }
 
 /// `axis = "x" | "y" | "z"`.
@@ -164,6 +176,14 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
+fn one() -> f64 {
+    1.0
+}
+
 impl Default for RawRender {
     fn default() -> RawRender {
         RawRender {
@@ -216,6 +236,8 @@ impl RawScene {
                 f64::from(m.diffuse),
                 f64::from(m.specular),
                 f64::from(m.reflection),
+                f64::from(m.transmission),
+                f64::from(m.ior),
             )
         };
         RawScene {
@@ -233,7 +255,7 @@ impl RawScene {
             sphere: spheres
                 .iter()
                 .map(|s| {
-                    let (color, diffuse, specular, reflection) = m(&s.material);
+                    let (color, diffuse, specular, reflection, transmission, ior) = m(&s.material);
                     RawSphere {
                         center: wide(s.center),
                         radius: f64::from(s.radius),
@@ -241,13 +263,15 @@ impl RawScene {
                         diffuse,
                         specular,
                         reflection,
+                        transmission,
+                        ior,
                     }
                 })
                 .collect(),
             plane: planes
                 .iter()
                 .map(|p| {
-                    let (color, diffuse, specular, reflection) = m(&p.material);
+                    let (color, diffuse, specular, reflection, transmission, ior) = m(&p.material);
                     RawPlane {
                         axis: RawAxis(p.axis),
                         facing: RawFacing(p.facing),
@@ -256,6 +280,8 @@ impl RawScene {
                         diffuse,
                         specular,
                         reflection,
+                        transmission,
+                        ior,
                     }
                 })
                 .collect(),

@@ -96,6 +96,12 @@ impl Fnv1a {
         self.f32(m.diffuse);
         self.f32(m.specular);
         self.f32(m.reflection);
+        // Only when not opaque: scenes without refraction keep their hashes.
+        if m.transmission != 0.0 || m.ior != 1.0 {
+            self.bytes(b"refraction");
+            self.f32(m.transmission);
+            self.f32(m.ior);
+        }
     }
 
     fn finish(&self) -> u64 {

@@ -31,6 +31,8 @@
 //! diffuse = 0.5
 //! specular = 0.5
 //! reflection = 0.4
+//! # transmission = 0.0  # weight of the refracted ray (0 = opaque; spheres only)
+//! # ior = 1.0           # index of refraction inside relative to outside, in [0.25, 4]
 //!
 //! [[plane]]
 //! axis = "y"      # the plane is { p : p[axis] = offset }
@@ -84,8 +86,8 @@ pub use error::SceneError;
 pub(crate) use types::dvec;
 pub use types::{
     Axis, Camera, Light, Material, Object, Plane, RenderSettings, Speedups, Sphere, Vec3f,
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS,
-    MAX_SPHERES, MIN_DISTANCE, MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_IOR, MAX_PLANES,
+    MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
 };
 
 use file::RawScene;

@@ -81,7 +81,15 @@ pub struct Light {
     pub color: Vec3f,
 }
 
-/// Surface properties (thesis 3.4): every value in [0, 1].
+/// Smallest index of refraction, 1/4: the index is the inside's relative
+/// to the outside's, so below 1 the sphere is the thinner medium (a bubble);
+/// no pair of common media is further apart.
+pub const MIN_IOR: f32 = 0.25;
+/// Largest index of refraction, 4 (diamond in air is 2.42).
+pub const MAX_IOR: f32 = 4.0;
+
+/// Surface properties (thesis 3.4): every value in [0, 1] but the index of
+/// refraction.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     /// RGB; scales the diffuse term only (specular light has the light's colour).
@@ -92,6 +100,34 @@ pub struct Material {
     pub specular: f32,
     /// Weight of the reflected ray's colour.
     pub reflection: f32,
+    /// Weight of the refracted ray's colour (thesis 3.4.1, 3.6: the ray
+    /// that passes through a sphere and leaves it as a new open-air ray);
+    /// 0 for an opaque object. Spheres only: a plane bounds no inside.
+    pub transmission: f32,
+    /// Index of refraction of the inside relative to the outside, in
+    /// [[`MIN_IOR`], [`MAX_IOR`]]; 1 bends nothing. Read only where
+    /// `transmission > 0`.
+    pub ior: f32,
+}
+
+impl Material {
+    /// An opaque material (no transmission, index 1): every material
+    /// before refraction.
+    pub fn opaque(color: Vec3f, diffuse: f32, specular: f32, reflection: f32) -> Material {
+        Material {
+            color,
+            diffuse,
+            specular,
+            reflection,
+            transmission: 0.0,
+            ior: 1.0,
+        }
+    }
+
+    /// Whether light passes through it (a refracted child ray).
+    pub fn transparent(&self) -> bool {
+        self.transmission > 0.0
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -19,8 +19,8 @@ use super::error::SceneError;
 use super::file::{RawCamera, RawLight, RawPlane, RawRender, RawScene, RawSphere};
 use super::types::{
     dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_COORD,
-    MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
-    MIN_DISTANCE, MIN_RADIUS,
+    MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_IOR, MAX_PLANES, MAX_RADIUS,
+    MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
 };
 use super::Scene;
 use glam::DVec3;
@@ -49,6 +49,7 @@ pub(super) fn scene(raw: &RawScene, origin: &str) -> Result<Scene, SceneError> {
     check.camera(&camera)?;
     check.light(&light)?;
     check.objects(&spheres, &planes)?;
+    check.refraction(&camera, &light, &spheres, &planes)?;
 
     if render.speedups.fast_plane {
         check.fast_plane(&camera, &light, &spheres, &planes)?;
@@ -136,12 +137,15 @@ impl Check<'_> {
         diffuse: f64,
         specular: f64,
         reflection: f64,
+        [transmission, ior]: [f64; 2],
     ) -> Result<Material, SceneError> {
         Ok(Material {
             color: self.vec(&format!("{at}.color"), color)?,
             diffuse: self.num(&format!("{at}.diffuse"), diffuse)?,
             specular: self.num(&format!("{at}.specular"), specular)?,
             reflection: self.num(&format!("{at}.reflection"), reflection)?,
+            transmission: self.num(&format!("{at}.transmission"), transmission)?,
+            ior: self.num(&format!("{at}.ior"), ior)?,
         })
     }
 
@@ -167,7 +171,14 @@ impl Check<'_> {
         Ok(Sphere {
             center: self.vec(&format!("{at}.center"), s.center)?,
             radius: self.num(&format!("{at}.radius"), s.radius)?,
-            material: self.narrow_material(&at, s.color, s.diffuse, s.specular, s.reflection)?,
+            material: self.narrow_material(
+                &at,
+                s.color,
+                s.diffuse,
+                s.specular,
+                s.reflection,
+                [s.transmission, s.ior],
+            )?,
         })
     }
 
@@ -177,7 +188,14 @@ impl Check<'_> {
             axis: p.axis.0,
             facing: p.facing.0,
             offset: self.num(&format!("{at}.offset"), p.offset)?,
-            material: self.narrow_material(&at, p.color, p.diffuse, p.specular, p.reflection)?,
+            material: self.narrow_material(
+                &at,
+                p.color,
+                p.diffuse,
+                p.specular,
+                p.reflection,
+                [p.transmission, p.ior],
+            )?,
         })
     }
 
@@ -307,7 +325,15 @@ impl Check<'_> {
         self.unit_vec(&format!("{at}.color"), m.color)?;
         self.unit(&format!("{at}.diffuse"), m.diffuse)?;
         self.unit(&format!("{at}.specular"), m.specular)?;
-        self.unit(&format!("{at}.reflection"), m.reflection)
+        self.unit(&format!("{at}.reflection"), m.reflection)?;
+        self.unit(&format!("{at}.transmission"), m.transmission)?;
+        self.within(
+            &format!("{at}.ior"),
+            m.ior,
+            MIN_IOR,
+            MAX_IOR,
+            "MIN_IOR = 1/4 to MAX_IOR = 4, the inside's index relative to the outside's",
+        )
     }
 
     fn objects(&self, spheres: &[Sphere], planes: &[Plane]) -> Result<(), SceneError> {
@@ -344,6 +370,72 @@ impl Check<'_> {
                 ));
             }
             self.material(&at, &p.material)?;
+            if p.material.transparent() {
+                return Err(self.fail(
+                    format!("{at}.transmission"),
+                    format!(
+                        "must be 0, got {}: a plane bounds no inside, so light it let through \
+                         would never leave it (refraction is for spheres: docs/scenes.md)",
+                        p.material.transmission
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A transparent sphere's inside holds nothing but its own medium: the
+    /// refracted ray crosses it to its far side without testing any other
+    /// object (docs/scenes.md, "Refraction"), which is exact only if no
+    /// other object reaches inside. So a transparent sphere may touch
+    /// another sphere or a plane but not cut into it, and the eye and the
+    /// light lie outside it. (f64 of the f32 values: the differences and
+    /// the squares are exact.)
+    fn refraction(
+        &self,
+        camera: &Camera,
+        light: &Light,
+        spheres: &[Sphere],
+        planes: &[Plane],
+    ) -> Result<(), SceneError> {
+        for (i, s) in spheres.iter().enumerate() {
+            if !s.material.transparent() {
+                continue;
+            }
+            let at = format!("sphere[{i}]");
+            let (c, r) = (dvec(s.center), f64::from(s.radius));
+            for (what, p) in [
+                ("camera.eye", camera.eye),
+                ("light.position", light.position),
+            ] {
+                if (dvec(p) - c).length_squared() <= r * r {
+                    return Err(self.fail(
+                        format!("{at}.transmission"),
+                        format!("the sphere is transparent, so {what} must lie outside it"),
+                    ));
+                }
+            }
+            for (j, o) in spheres.iter().enumerate().filter(|&(j, _)| j != i) {
+                let reach = r + f64::from(o.radius);
+                if (dvec(o.center) - c).length_squared() < reach * reach {
+                    return Err(self.fail(
+                        format!("{at}.transmission"),
+                        format!(
+                            "the sphere is transparent, so it may touch sphere[{j}] but not cut into it"
+                        ),
+                    ));
+                }
+            }
+            for (j, p) in planes.iter().enumerate() {
+                if (c[p.axis.index()] - f64::from(p.offset)).abs() < r {
+                    return Err(self.fail(
+                        format!("{at}.transmission"),
+                        format!(
+                            "the sphere is transparent, so it may touch plane[{j}] but not cut through it"
+                        ),
+                    ));
+                }
+            }
         }
         Ok(())
     }

@@ -1,0 +1,84 @@
+//! Refraction at the command line: `golden::reference` draws a glass
+//! sphere, and every command that runs the micro-op model or the RTL, which
+//! do not trace refraction yet, refuses the scene by the field that makes
+//! it transparent before it starts (golden/tests/refraction.rs has the
+//! optics).
+
+mod common;
+
+use common::{assert_refused, both, rtcosim};
+use std::path::PathBuf;
+
+/// The reference scene at 40x30 with its first sphere made of glass, as a
+/// file under cargo's temporary directory.
+fn glass_scene() -> PathBuf {
+    let s = golden::scene::Scene::reference()
+        .resized(40, 30, "test")
+        .expect("smaller");
+    let mut spheres = s.spheres.clone();
+    spheres[0].material.transmission = 0.5;
+    spheres[0].material.ior = 1.5;
+    let glass = golden::scene::Scene::new(
+        "glass",
+        s.camera.clone(),
+        s.light.clone(),
+        spheres,
+        s.planes.clone(),
+        s.render,
+    )
+    .expect("the reference's first sphere may be glass");
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass.toml");
+    std::fs::write(&path, glass.to_toml()).expect("writing the scene");
+    path
+}
+
+#[test]
+fn only_the_reference_draws_a_glass_scene_and_the_rest_refuse_it_by_name() {
+    let path = glass_scene();
+    let scene = path.to_str().expect("utf-8");
+    let why = "sphere[0].transmission = 0.5: the micro-op model and the processors trace no refraction yet";
+    assert_refused(
+        &["cosim", "--scene", scene],
+        &[&format!("--scene {scene}: {why}")],
+    );
+    assert_refused(&["cosim", "--processor", "fast", "--scene", scene], &[why]);
+    let png = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass.png");
+    let out_png = png.to_str().expect("utf-8");
+    assert_refused(
+        &[
+            "render", "--model", "micro", "--scene", scene, "--out", out_png,
+        ],
+        &[&format!("--model micro: {why}")],
+    );
+    assert_refused(&["tune", "--scene", scene, "--max-error", "1"], &[why]);
+    let sweep = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-sweep");
+    assert_refused(
+        &[
+            "sweep",
+            "--scene",
+            scene,
+            "--out",
+            sweep.to_str().expect("utf-8"),
+        ],
+        &[why],
+    );
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-maps");
+    let dir = dir.to_str().expect("utf-8");
+    for side in ["micro", "rtl"] {
+        assert_refused(
+            &["diffmap", "reference", side, "--scene", scene, "--out", dir],
+            &[&format!("side B ({side}): {why}")],
+        );
+    }
+    let out = rtcosim(&[
+        "render",
+        "--model",
+        "reference",
+        "--scene",
+        scene,
+        "--out",
+        out_png,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    assert!(png.exists());
+}
