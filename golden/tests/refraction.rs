@@ -271,3 +271,48 @@ fn the_micro_op_model_refuses_what_it_cannot_trace() {
     assert_eq!(golden::micro::untraceable(&one_sphere(0.0, 1.5)), None);
     assert_eq!(golden::micro::untraceable(&Scene::reference()), None);
 }
+
+/// `scene` with every sphere opaque (transmission 0).
+fn opaque(scene: &Scene) -> Scene {
+    let mut spheres = scene.spheres.clone();
+    for s in &mut spheres {
+        s.material.transmission = 0.0;
+    }
+    let (c, l) = (scene.camera.clone(), scene.light.clone());
+    Scene::new("opaque", c, l, spheres, scene.planes.clone(), scene.render).expect("valid")
+}
+
+#[test]
+fn the_documented_glass_scenes_differ_from_opaque_only_through_the_glass() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/glass");
+    for name in ["glass_room", "bubble", "touching"] {
+        let path = dir.join(format!("{name}.toml"));
+        let glass = Scene::load(&path)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .resized(160, 120, "test")
+            .expect("smaller");
+        let plain = opaque(&glass);
+        let (a, b) = (
+            reference::render(&glass, &|_| {}),
+            reference::render(&plain, &|_| {}),
+        );
+        let transparent: Vec<usize> = (0..glass.spheres.len())
+            .filter(|&i| glass.spheres[i].material.transparent())
+            .collect();
+        let mut differing = 0;
+        for y in 0..120 {
+            for x in 0..160 {
+                let i = (y * 160 + x) as usize;
+                if !golden::stability::differs(a.pixels[i], b.pixels[i]) {
+                    continue;
+                }
+                differing += 1;
+                let sees_glass = reference::path_events(&plain, x, y)
+                    .iter()
+                    .any(|e| matches!(e.1, Object::Sphere(k) if transparent.contains(&k)));
+                assert!(sees_glass, "{name}: ({x}, {y}) differs but sees no glass");
+            }
+        }
+        assert!(differing > 200, "{name}: only {differing} pixels differ");
+    }
+}
