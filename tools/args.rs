@@ -45,10 +45,10 @@ impl SceneArgs {
     }
 }
 
-/// Refuses a scene the micro-op model and the processors cannot trace
-/// ([`golden::micro::untraceable`]), naming it as `label`.
+/// Refuses a scene the processors cannot trace
+/// ([`rtcosim::design::untraceable`]), naming it as `label`.
 pub fn traceable(label: &str, scene: &Scene) -> Result<()> {
-    match golden::micro::untraceable(scene) {
+    match rtcosim::design::untraceable(scene) {
         Some(why) => anyhow::bail!("{label}: {why}"),
         None => Ok(()),
     }

@@ -199,7 +199,7 @@ impl Side<'_> {
                 args.recip = self.recip.or(args.recip);
                 args.sqrt = self.sqrt.or(args.sqrt);
                 let scene = args.load()?;
-                if *renderer != Renderer::Golden(Model::Reference) {
+                if *renderer == Renderer::Rtl {
                     traceable(&format!("side {} ({})", self.name, renderer.name()), &scene)?;
                 }
                 Ok(Input::Model(*renderer, Box::new(scene)))

@@ -2,7 +2,7 @@
 //! model's trace of a window.
 
 use crate::args::{
-    check_parent_dir, check_window, parse_fault, parse_window, traceable, SceneArgs, ThreadsArgs,
+    check_parent_dir, check_window, parse_fault, parse_window, SceneArgs, ThreadsArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::{bail, Result};
@@ -74,16 +74,8 @@ impl Model {
         }
     }
 
-    /// Refuses a scene this model cannot draw.
-    pub fn check(self, scene: &Scene) -> Result<()> {
-        match self {
-            Model::Micro => traceable("--model micro", scene),
-            Model::Reference => Ok(()),
-        }
-    }
-
     /// Renders `scene` on the current rayon pool, with the cycle statistics
-    /// of the models that have them. The scene must pass [`Model::check`].
+    /// of the models that have them.
     pub fn render(
         self,
         scene: &Scene,
@@ -101,7 +93,6 @@ impl Model {
 
 pub fn run(args: RenderArgs) -> Result<()> {
     let scene = args.scene.load()?;
-    args.model.check(&scene)?;
     // Fail before a long render, not after it.
     check_parent_dir("--out", &args.out)?;
     if let Some(exr) = &args.exr {

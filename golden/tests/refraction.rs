@@ -1,8 +1,9 @@
-//! Refraction in the f64 reference (docs/scenes.md, "Refraction"): the
-//! optics against closed forms (Snell's law, the undeviated central ray,
+//! Refraction in golden (docs/scenes.md, "Refraction"): the f64
+//! reference's optics against closed forms (Snell's law, the undeviated central ray,
 //! the critical angle, a ball lens' focal point), the scene rules that make
-//! the model exact (spheres only, nothing inside a transparent sphere), and
-//! scenes without refraction unchanged.
+//! the model exact (spheres only, nothing inside a transparent sphere),
+//! scenes without refraction unchanged, and the micro-op model's f32
+//! refraction against the reference.
 
 use glam::DVec3;
 use golden::reference::{self, refract, transmitted, Object, Ray, Transmitted};
@@ -264,12 +265,43 @@ fn what_refraction_cannot_mean_is_refused_by_name() {
         .expect("an opaque sphere in the floor");
 }
 
+/// The documented glass scene `name` at 200x150.
+fn documented(name: &str) -> Scene {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/glass");
+    Scene::load(&dir.join(format!("{name}.toml")))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .resized(200, 150, "test")
+        .expect("smaller")
+}
+
 #[test]
-fn the_micro_op_model_refuses_what_it_cannot_trace() {
-    let why = golden::micro::untraceable(&one_sphere(0.5, 1.5)).expect("refraction");
-    assert!(why.starts_with("sphere[0].transmission = 0.5:"), "{why}");
-    assert_eq!(golden::micro::untraceable(&one_sphere(0.0, 1.5)), None);
-    assert_eq!(golden::micro::untraceable(&Scene::reference()), None);
+fn the_micro_op_model_follows_the_reference_through_glass() {
+    // Away from the edges of the f64 reference's ray tree (where any model
+    // may land on the other side), the f32 micro-op model's colours stay
+    // within a few 8-bit steps; through a lens, whose image magnifies the
+    // f32 direction's error, a few pixels beyond half a step. Measured:
+    // 34, 0 and 37 such pixels, worst 6.0e-3, 0 and 5.3e-3.
+    for name in ["glass_room", "bubble", "touching"] {
+        let scene = documented(name);
+        let r = reference::render(&scene, &|_| {});
+        let (m, stats) = golden::micro::render(&scene, &|_| {});
+        let edges = golden::stability::edge_mask(&scene).dilated();
+        let (mut off, mut worst) = (0, 0.0f64);
+        for (i, (a, b)) in r.pixels.iter().zip(&m.pixels).enumerate() {
+            let (x, y) = ((i % 200) as u32, (i / 200) as u32);
+            if golden::stability::differs(*a, *b) && !edges.get(x, y) {
+                off += 1;
+                worst = worst.max((0..3).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max));
+            }
+        }
+        assert!(
+            off <= 60 && worst < 0.01,
+            "{name}: {off} pixels off the edges, worst {worst}"
+        );
+        // The glass costs cycles where it refracts.
+        let (_, plain) = golden::micro::render(&opaque(&scene), &|_| {});
+        assert!(stats.cycles > plain.cycles, "{name}");
+    }
 }
 
 /// `scene` with every sphere opaque (transmission 0).

@@ -45,7 +45,7 @@ pub enum PpError {
         /// The scene's exposure, as bits (the error is `Eq`).
         exposure_bits: u32,
     },
-    /// A scene the processors cannot trace ([`golden::micro::untraceable`]).
+    /// A scene the processors cannot trace ([`untraceable`]).
     #[error("{0}")]
     Untraceable(String),
     /// A pixel before any scene was loaded.
@@ -154,10 +154,26 @@ impl std::fmt::Display for ProcessorId {
     }
 }
 
+/// What of `scene` the processors cannot trace, named by the field that
+/// asks for it: refraction, which golden's models trace (the f64 reference
+/// and the micro-op model) and the RTL does not yet. `None` for every
+/// other valid scene.
+pub fn untraceable(scene: &Scene) -> Option<String> {
+    let i = scene
+        .spheres
+        .iter()
+        .position(|s| s.material.transparent())?;
+    Some(format!(
+        "sphere[{i}].transmission = {}: the processors trace no refraction yet (golden's \
+         models do: `render --model reference` or `--model micro`)",
+        scene.spheres[i].material.transmission
+    ))
+}
+
 /// Refuses `scene` unless the processors can trace it and it uses the
 /// float methods a model was verilated with.
 pub(crate) fn check_scene(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
-    if let Some(why) = golden::micro::untraceable(scene) {
+    if let Some(why) = untraceable(scene) {
         return Err(PpError::Untraceable(why));
     }
     let r = &scene.render;

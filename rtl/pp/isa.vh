@@ -33,7 +33,7 @@
 // Widths
 // ---------------------------------------------------------------------------
 `define ISA_DIM_OP_BITS 6    // opcode field
-`define ISA_DIM_REG_BITS 7   // register address (128 vector registers)
+`define ISA_DIM_REG_BITS 8   // register address (256 vector registers; 136 named)
 `define ISA_DIM_ST_BITS 9    // controller FSM state id
 `define ISA_DIM_COORD_BITS 12  // pixel coordinates px, py (images up to 4096 x 4096)
 `define ISA_DIM_LANES 3        // lanes of a vector register (x, y, z: one float32 each) and of a lane mask
@@ -149,6 +149,12 @@
 `define ISA_REG_STK0_D 97
 `define ISA_REG_STK0_COL 98
 `define ISA_REG_STK0_W 99
+// Transparent spheres k = 0..7 at 128 + k (refraction): what the refracted
+// child reads of sphere k. Written only for a scene with a transparent
+// sphere (ISA_DIM_CFG_TRN_LSB).
+`define ISA_DIM_TRN_COUNT 8
+`define ISA_DIM_TRN_STRIDE 1
+`define ISA_REG_TRN0 128       // <1/ior, ior, kt>: the index ratios in and out, the transmission
 
 // ---------------------------------------------------------------------------
 // The configuration word: the controller's per-scene switches and counts
@@ -167,6 +173,7 @@
 `define ISA_DIM_CFG_CUTOFF_LSB 15    // 1 bit: weight cutoff (3.8, end): CUT_W, CUT_CMP before a push
 `define ISA_DIM_CFG_ROTATE_LSB 16    // ISA_DIM_ROT_COUNT bits: rotate the primary ray about x, y, z
 `define ISA_DIM_CFG_EXPOSURE_LSB 19  // 1 bit: exposure (thesis 3.7): EXPO_MUL, EXPO_EXP, EXPO_SUB before PIX_DONE
+`define ISA_DIM_CFG_TRN_LSB 20       // 1 bit per sphere k at + k: transparent (transmission > 0): a refracted child
 `define ISA_DIM_CFG_SPH_BITS_LSB 32  // ISA_DIM_CFG_MAT_BITS per sphere k at + MAT_BITS * k
 `define ISA_DIM_CFG_PLN_BITS_LSB 56  // ISA_DIM_CFG_MAT_BITS per plane j at + MAT_BITS * j
 `define ISA_DIM_CFG_MAT_BITS 3       // an object's material bits: diffuse (bit 0), specular, reflective
@@ -250,6 +257,54 @@
 `define ISA_ST_POP_ADD 90          // PAR_COL = PAR_COL + CUR_COL
 `define ISA_ST_POP_MOV 91          // PAR_COL = CUR_COL (the parent got no light)
 `define ISA_ST_ROOT_BLACK 92       // STK0_COL = ZERO (no light reached the pixel)
+// The refracted child of a hit on transparent sphere k (docs/scenes.md,
+// "Refraction"), spawned into level sp when the hit's reflected subtree has
+// been added into its colour, or at once without one: p in CUR_O (SH_POINT
+// wrote it there), d in PAR_D, eta = TRNk.x, ior = TRNk.y, kt = TRNk.z.
+// Into the sphere (Snell, eta):
+`define ISA_ST_RF_NSUB 100         // N = p - c
+`define ISA_ST_RF_NSCALE 101       // N = n = (p - c) * 1/r (then Q.x = d.n by DOT)
+`define ISA_ST_RF_COS2 102         // U.x = (d.n)^2
+`define ISA_ST_RF_SIN2 103         // U.x = 1 - (d.n)^2
+`define ISA_ST_RF_ETA1 104         // U.x = U.x * eta (MULX)
+`define ISA_ST_RF_ETA2 105         // U.x = U.x * eta: eta^2 sin^2
+`define ISA_ST_RF_K 106            // U.x = k = 1 - eta^2 sin^2; k < 0: total internal reflection
+`define ISA_ST_RF_SQRT 107         // U.x = sqrt(k)
+`define ISA_ST_RF_EDN 108          // G.x = (d.n) * eta
+`define ISA_ST_RF_COEF 109         // G.x = eta (d.n) + sqrt(k)
+`define ISA_ST_RF_ED 110           // V = d * eta
+`define ISA_ST_RF_CN 111           // S = n * G.x
+`define ISA_ST_RF_DIR 112          // R = t = eta d - (eta (d.n) + sqrt k) n
+// Across it: the far root of the sphere test from p along t.
+`define ISA_ST_RF_CV 113           // V = p - c (then Q.x = b = v.t by DOT)
+`define ISA_ST_RF_CBD 114          // U = -b t
+`define ISA_ST_RF_CW 115           // V = w = v - b t (then S.x = disc = r*r - w.w by ISECT)
+`define ISA_ST_RF_CSQRT 116        // S.x = sqrt(disc)
+`define ISA_ST_RF_CS 117           // S.x = s = sqrt(disc) - b
+`define ISA_ST_RF_CST 118          // U = t * s
+`define ISA_ST_RF_EXIT 119         // CUR_O = p + s t: the exit point
+// Out of it (Snell, ior, against the inward normal).
+`define ISA_ST_RF_OSUB 120         // N = exit - c
+`define ISA_ST_RF_OSCALE 121       // N = n' (then Q.x = t.n' = cos by DOT)
+`define ISA_ST_RF_OCOS2 122        // U.x = cos^2
+`define ISA_ST_RF_OSIN2 123        // U.x = 1 - cos^2
+`define ISA_ST_RF_OIOR1 124        // U.x = U.x * ior (MULY)
+`define ISA_ST_RF_OIOR2 125        // U.x = U.x * ior: ior^2 sin^2
+`define ISA_ST_RF_OK 126           // U.x = k' = 1 - ior^2 sin^2; k' < 0 (by rounding only): taken as 0
+`define ISA_ST_RF_OSQRT 127        // U.x = sqrt(k')
+`define ISA_ST_RF_OEDN 128         // G.x = cos * ior
+`define ISA_ST_RF_OCOEF 129        // G.x = ior cos - sqrt(k') (skipped when k' is taken as 0)
+`define ISA_ST_RF_OED 130          // V = t * ior
+`define ISA_ST_RF_OCN 131          // S = n' * G.x
+`define ISA_ST_RF_ODIR 132         // CUR_D = ior t - (ior cos - sqrt k') n'; latches the direction's sign flags
+// Total internal reflection at the entry: the mirror ray from p.
+`define ISA_ST_RF_TIR_K 133        // U = 2 (d.n) n (MUL2X)
+`define ISA_ST_RF_TIR 134          // CUR_D = d - 2 (d.n) n; latches the direction's sign flags
+`define ISA_ST_RF_CHILD_W 135      // CUR_W = PAR_W * kt (MULZ)
+// Weight cutoff of the refracted child (with ISA_DIM_CFG_CUTOFF_LSB set, at
+// the hit): no child whose weight w * kt < c.
+`define ISA_ST_RF_CUT_W 136        // U.z = CUR_W.z * kt (MULZ)
+`define ISA_ST_RF_CUT_CMP 137      // G.z = U.z - c < 0: no refracted child
 // Exposure (thesis 3.7; with ISA_DIM_CFG_EXPOSURE_LSB set, after the
 // unwinding, before PIX_DONE): STK0_COL = 1 - e^(exposure * STK0_COL).
 `define ISA_ST_EXPO_MUL 93         // U = STK0_COL * exposure (MULX, ROT0_S lane x)

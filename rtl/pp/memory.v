@@ -35,6 +35,7 @@ module memory #(
     localparam integer REG_WORDS = `ISA_REG_CUR_O;
     localparam integer STK_WORDS = STACK_DEPTH * `ISA_DIM_STK_STRIDE;
     localparam integer STK_BITS  = $clog2(STK_WORDS);
+    localparam integer REG_BITS  = $clog2(REG_WORDS);
 
     localparam [RB-1:0] REG_END = `ISA_REG_CUR_O;
     localparam [RB-1:0] STK0_O  = `ISA_REG_STK0_O;
@@ -53,7 +54,11 @@ module memory #(
     wire          b_in_stk = (ra_b >= STK0_O) && ({1'b0, b_off} < STK_END);
     wire          w_in_stk = (wa >= STK0_O) && ({1'b0, w_off} < STK_END);
 
-    // The range checks use the whole offset, the stack arrays its low bits.
+    // The range checks use the whole address or offset, the arrays its low
+    // bits.
+    wire [REG_BITS-1:0] a_reg = ra_a[REG_BITS-1:0];
+    wire [REG_BITS-1:0] b_reg = ra_b[REG_BITS-1:0];
+    wire [REG_BITS-1:0] w_reg = wa[REG_BITS-1:0];
     wire [STK_BITS-1:0] a_idx = a_off[STK_BITS-1:0];
     wire [STK_BITS-1:0] b_idx = b_off[STK_BITS-1:0];
     wire [STK_BITS-1:0] w_idx = w_off[STK_BITS-1:0];
@@ -68,13 +73,13 @@ module memory #(
             reg [31:0] stack_q [0:STK_WORDS-1];
 
             always @(posedge clk) begin
-                if (we && wmask[gl] && w_in_reg) regs_q[wa] <= wd[32*gl +: 32];
+                if (we && wmask[gl] && w_in_reg) regs_q[w_reg] <= wd[32*gl +: 32];
                 if (we && wmask[gl] && w_in_stk) stack_q[w_idx] <= wd[32*gl +: 32];
             end
 
-            assign rd_a[32*gl +: 32] = a_in_reg ? regs_q[ra_a]
+            assign rd_a[32*gl +: 32] = a_in_reg ? regs_q[a_reg]
                                      : a_in_stk ? stack_q[a_idx] : 32'd0;
-            assign rd_b[32*gl +: 32] = b_in_reg ? regs_q[ra_b]
+            assign rd_b[32*gl +: 32] = b_in_reg ? regs_q[b_reg]
                                      : b_in_stk ? stack_q[b_idx] : 32'd0;
         end
     endgenerate

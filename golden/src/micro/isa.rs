@@ -118,7 +118,8 @@ impl fmt::Display for Lanes {
 const _: () = assert!(dim::SPH_COUNT == MAX_SPHERES);
 const _: () = assert!(dim::PLN_COUNT == MAX_PLANES);
 const _: () = assert!(dim::STK_COUNT == MAX_DEPTH as usize);
-const _: () = assert!(dim::REG_BITS == 7 && dim::ST_BITS <= 16 && dim::OP_BITS <= 8);
+const _: () = assert!(dim::REG_BITS == 8 && dim::ST_BITS <= 16 && dim::OP_BITS <= 8);
+const _: () = assert!(dim::TRN_COUNT == MAX_SPHERES);
 // CUR_<f> and PAR_<f> decode to STK<level>_<f>: the fields line up.
 const _: () = assert!(reg::CUR_D - reg::CUR_O == reg::STK0_D - reg::STK0_O);
 const _: () = assert!(reg::CUR_COL - reg::CUR_O == reg::STK0_COL - reg::STK0_O);
@@ -190,6 +191,12 @@ pub const fn rot(axis: usize) -> (Reg, Reg) {
     assert!(axis < dim::ROT_COUNT);
     let c = reg::ROT0_C + (axis * dim::ROT_STRIDE) as u8;
     (Reg(c), Reg(c + 1))
+}
+
+/// Address of transparent sphere `k`'s `<1/ior, ior, kt>`.
+pub const fn trn(k: usize) -> Reg {
+    assert!(k < dim::TRN_COUNT);
+    Reg(reg::TRN0 + (k * dim::TRN_STRIDE) as u8)
 }
 
 /// Address of bounding-box corner `k` (lane i = maximum iff bit i of k).
@@ -357,7 +364,9 @@ mod tests {
         assert_eq!(register_name(rot(2).1 .0), Some("ROT2_S"));
         assert_eq!(register_name(corner(7).0), Some("BOX7"));
         assert_eq!(register_name(stack(7, RayField::W).0), Some("STK7_W"));
-        assert_eq!(stack(7, RayField::W).0 as usize, REGISTER_COUNT - 1);
+        assert_eq!(register_name(trn(7).0), Some("TRN7"));
+        assert_eq!(trn(7).0 as usize, 135);
+        assert_eq!(stack(7, RayField::W).0 as usize + 1, trn(0).0 as usize);
     }
 
     #[test]

@@ -25,7 +25,8 @@ const _: () = assert!(dim::CFG_FAST_PLANE_LSB < dim::CFG_SHORTCUT_LSB);
 const _: () = assert!(dim::CFG_SHORTCUT_LSB < dim::CFG_CUTOFF_LSB);
 const _: () = assert!(dim::CFG_CUTOFF_LSB < dim::CFG_ROTATE_LSB);
 const _: () = assert!(dim::CFG_ROTATE_LSB + 3 <= dim::CFG_EXPOSURE_LSB);
-const _: () = assert!(dim::CFG_EXPOSURE_LSB < dim::CFG_SPH_BITS_LSB);
+const _: () = assert!(dim::CFG_EXPOSURE_LSB < dim::CFG_TRN_LSB);
+const _: () = assert!(dim::CFG_TRN_LSB + MAX_SPHERES <= dim::CFG_SPH_BITS_LSB);
 const _: () = assert!(dim::CFG_SPH_BITS_LSB + 3 * MAX_SPHERES <= dim::CFG_PLN_BITS_LSB);
 const _: () = assert!(dim::CFG_PLN_BITS_LSB + 3 * MAX_PLANES <= dim::CFG_PLN_AXIS_LSB);
 const _: () = assert!(dim::CFG_PLN_AXIS_LSB + 2 * MAX_PLANES <= dim::CFG_PLN_NEG_LSB);
@@ -84,6 +85,9 @@ pub struct Config {
     /// cos is exactly 1 and its sin exactly 0, so the rotation is skipped.
     pub rotate: [bool; 3],
     pub sphere_bits: [MaterialBits; MAX_SPHERES],
+    /// Each sphere is transparent (transmission > 0): a hit on it spawns a
+    /// refracted child, which reads its TRNk register ([`scene_writes`]).
+    pub transparent: [bool; MAX_SPHERES],
     pub plane_bits: [MaterialBits; MAX_PLANES],
     /// Each plane's axis (0 = x): the lane the fast plane test looks at.
     pub plane_axis: [usize; MAX_PLANES],
@@ -105,12 +109,14 @@ impl Config {
             rotate: [0, 1, 2]
                 .map(|a| !(scene.derived.cos[a] == 1.0 && scene.derived.sin[a] == 0.0)),
             sphere_bits: [MaterialBits::default(); MAX_SPHERES],
+            transparent: [false; MAX_SPHERES],
             plane_bits: [MaterialBits::default(); MAX_PLANES],
             plane_axis: [0; MAX_PLANES],
             plane_facing_neg: [false; MAX_PLANES],
         };
         for (k, s) in scene.spheres.iter().enumerate() {
             c.sphere_bits[k] = MaterialBits::of(&s.material);
+            c.transparent[k] = s.material.transparent();
         }
         for (j, p) in scene.planes.iter().enumerate() {
             c.plane_bits[j] = MaterialBits::of(&p.material);
@@ -144,6 +150,7 @@ impl Config {
         }
         for (k, b) in self.sphere_bits.iter().enumerate() {
             put(dim::CFG_SPH_BITS_LSB + 3 * k, b.code());
+            put(dim::CFG_TRN_LSB + k, u128::from(self.transparent[k]));
         }
         for j in 0..MAX_PLANES {
             put(dim::CFG_PLN_BITS_LSB + 3 * j, self.plane_bits[j].code());
@@ -176,6 +183,9 @@ pub fn scene_writes(scene: &Scene) -> Vec<(u8, [u32; 3])> {
             isa::sphere(k, SphereField::Mat),
             [m.diffuse, m.specular, m.reflection],
         ));
+        if m.transparent() {
+            w.push((isa::trn(k), [d.inv_ior[k], m.ior, m.transmission]));
+        }
     }
     for (j, p) in scene.planes.iter().enumerate() {
         let m = &p.material;

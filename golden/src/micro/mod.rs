@@ -185,23 +185,6 @@ impl Processor {
     }
 }
 
-/// What of `scene` the micro-op model (and the processors built to it)
-/// cannot trace, named by the field that asks for it: refraction, which
-/// [`crate::reference`] alone draws so far. `None` for every other valid
-/// scene. The commands refuse such a scene for this model and the RTL; a
-/// [`Processor`] given one would draw its transparent spheres opaque.
-pub fn untraceable(scene: &Scene) -> Option<String> {
-    let i = scene
-        .spheres
-        .iter()
-        .position(|s| s.material.transparent())?;
-    Some(format!(
-        "sphere[{i}].transmission = {}: the micro-op model and the processors trace no \
-         refraction yet (the f64 reference does: `render --model reference`)",
-        scene.spheres[i].material.transmission
-    ))
-}
-
 /// Renders one pixel of `scene` (loading the scene first; to render many,
 /// make a [`Processor`] once).
 pub fn render_pixel<F>(scene: &Scene, px: u32, py: u32, trace: F) -> PixelResult

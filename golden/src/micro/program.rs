@@ -14,11 +14,15 @@
 //!
 //! The algorithm is thesis 3.6, iterative with the explicit ray stack: the
 //! primary ray is pushed at level 0; each ray's nearest hit is shaded into
-//! its colour (weighted by the product of its ancestors' reflection values);
-//! a reflective hit below the depth limit pushes the reflected ray (unless
-//! the weight cutoff refuses it: `Program::cut`); when a
-//! ray does not push, the stack unwinds, adding each ray's colour into its
-//! parent's. Only reflection rays exist, so the ray tree is a list.
+//! its colour (weighted by the product of its ancestors' reflection and
+//! transmission values); a reflective hit below the depth limit pushes the
+//! reflected ray (unless the weight cutoff refuses it: `Program::cut`);
+//! when a ray does not push, the stack unwinds, adding each ray's colour
+//! into its parent's. A hit on a transparent sphere also has a refracted
+//! child (docs/scenes.md, "Refraction"): the level's pending bit keeps it
+//! until the reflected subtree has been added into the hit ray's colour,
+//! then it takes the same level (`Program::refract`); without a reflected
+//! child it is pushed at once. The tree is walked depth first, post order.
 
 use super::core::{Core, Written};
 use super::isa::{self, Lanes, PlaneField, Reg, SphereField, State};
@@ -113,6 +117,9 @@ pub struct Program<'c, T> {
     /// Whether each level's colour register has been written this pixel
     /// (an unwritten colour is black, and adding it is skipped).
     coloured: [bool; MAX_DEPTH as usize],
+    /// Per level: the transparent sphere whose refracted child the ray at
+    /// that level still owes, once its reflected child's subtree is done.
+    pending: [Option<usize>; MAX_DEPTH as usize],
 }
 
 impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
@@ -122,6 +129,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
             cfg,
             dir: DirFlags::default(),
             coloured: [false; MAX_DEPTH as usize],
+            pending: [None; MAX_DEPTH as usize],
         }
     }
 
@@ -150,20 +158,37 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// shading, the unwinding; returns STK0_COL.
     fn trace_primary(&mut self) -> [u32; 3] {
         let mut from = None;
-        while let Some(obj) = self.nearest_hit(Reg::CUR_O, Reg::CUR_D, from) {
-            let push = self.bits(obj).reflective
-                && self.core.sp + 1 < self.cfg.max_depth
-                && !self.cut(obj);
-            if push {
-                self.core.sp += 1;
+        loop {
+            while let Some(obj) = self.nearest_hit(Reg::CUR_O, Reg::CUR_D, from) {
+                let room = self.core.sp + 1 < self.cfg.max_depth;
+                let reflect = self.bits(obj).reflective && room && !self.cut(obj);
+                let refract = match obj {
+                    Object::Sphere(k) if self.cfg.transparent[k] && room => {
+                        (!self.cut_refracted(k)).then_some(k)
+                    }
+                    _ => None,
+                };
+                let push = reflect || refract.is_some();
+                if push {
+                    self.core.sp += 1;
+                }
+                self.shade(obj, push, reflect);
+                if !push {
+                    break;
+                }
+                if reflect {
+                    self.pending[self.core.sp - 1] = refract;
+                } else if let Some(k) = refract {
+                    self.refract(k);
+                }
+                from = Some(obj);
             }
-            self.shade(obj, push);
-            if !push {
-                break;
+            match self.unwind() {
+                // The refracted child owed at this level, now current.
+                Some(k) => from = Some(Object::Sphere(k)),
+                None => break,
             }
-            from = Some(obj);
         }
-        self.unwind();
         self.expose();
         self.core
             .peek(isa::stack(0, isa::RayField::Col))
@@ -190,6 +215,25 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
         let core = &mut self.core;
         core.mulz(State::CUT_W, t::U, Reg::CUR_W, mat, Lanes::Z);
         core.sub(State::CUT_CMP, t::G, t::U, c, Lanes::Z).neg(2)
+    }
+
+    /// [`Program::cut`] for the refracted child of a hit on transparent
+    /// sphere `k`: its weight w * kt (RF_CHILD_W's product) against the
+    /// cutoff.
+    fn cut_refracted(&mut self, k: usize) -> bool {
+        if !self.cfg.cutoff {
+            return false;
+        }
+        let core = &mut self.core;
+        core.mulz(State::RF_CUT_W, t::U, Reg::CUR_W, isa::trn(k), Lanes::Z);
+        core.sub(
+            State::RF_CUT_CMP,
+            t::G,
+            t::U,
+            isa::sphere(k, SphereField::R),
+            Lanes::Z,
+        )
+        .neg(2)
     }
 
     /// The exposure function (thesis 3.7), with the configuration's bit
@@ -516,8 +560,9 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
     /// Shades the hit of the ray at level sp (or sp - 1 when `push`: the
     /// child's level is already current, and p and r are written straight
     /// into its origin and direction). Writes the ray's colour = w * local
-    /// unless no light arrives, and, when pushing, the child's weight.
-    fn shade(&mut self, obj: Object, push: bool) {
+    /// unless no light arrives, and, when the child is the reflected ray
+    /// (`reflect`), its weight.
+    fn shade(&mut self, obj: Object, push: bool, reflect: bool) {
         let sp = self.core.sp;
         let ray = if push {
             Shading {
@@ -600,7 +645,7 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
 
         // r = d - 2 (d.n) n, after the shadow test so that its direction
         // flags are the last latched before the child's search.
-        if push || (faces_light && bits.specular) {
+        if reflect || (faces_light && bits.specular) {
             self.dot(t::Q, ray.d, n);
             let c = &mut self.core;
             c.mul2x(State::SH_REFL_K, t::U, n, t::Q, Lanes::XYZ); // k = 2 (d.n) n
@@ -635,17 +680,100 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
                 .mul(State::SH_COLOUR, ray.col, local, ray.w, Lanes::XYZ);
             self.coloured[ray.level] = true;
         }
-        if push {
+        if reflect {
             self.core
                 .mulz(State::SH_CHILD_W, Reg::CUR_W, Reg::PAR_W, mat, Lanes::XYZ);
         }
     }
 
     // -----------------------------------------------------------------------
+    // Refraction (docs/scenes.md, "Refraction")
+    // -----------------------------------------------------------------------
+
+    /// The refracted child of a hit on transparent sphere `k`, into the
+    /// current level (the hit ray's is sp - 1): p is in CUR_O (SH_POINT
+    /// wrote it there), d in PAR_D; TRNk = <eta = 1/ior, ior, kt>. Writes
+    /// the child's origin (the exit point), direction and weight, and
+    /// clears its colour. Snell's law into the sphere, the far root of the
+    /// sphere test from p, Snell's law out; total internal reflection at
+    /// the entry gives the mirror ray from p; k' < 0 at the exit (rounding
+    /// only) is taken as 0, and so is a negative discriminant of the chord.
+    fn refract(&mut self, k: usize) {
+        let (c, r, trn) = (
+            isa::sphere(k, SphereField::C),
+            isa::sphere(k, SphereField::R),
+            isa::trn(k),
+        );
+        self.coloured[self.core.sp] = false;
+        let co = &mut self.core;
+        co.sub(State::RF_NSUB, t::N, Reg::CUR_O, c, Lanes::XYZ);
+        co.muly(State::RF_NSCALE, t::N, t::N, r, Lanes::XYZ);
+        self.dot(t::Q, Reg::PAR_D, t::N); // Q.x = d.n = -cos
+        let co = &mut self.core;
+        co.mul(State::RF_COS2, t::U, t::Q, t::Q, Lanes::X);
+        co.sub(State::RF_SIN2, t::U, Reg::ONE, t::U, Lanes::X);
+        co.mulx(State::RF_ETA1, t::U, t::U, trn, Lanes::X);
+        co.mulx(State::RF_ETA2, t::U, t::U, trn, Lanes::X);
+        if co.sub(State::RF_K, t::U, Reg::ONE, t::U, Lanes::X).neg(0) {
+            // The mirror ray, as SH_REFL_K and SH_REFL compute it.
+            co.mul2x(State::RF_TIR_K, t::U, t::N, t::Q, Lanes::XYZ);
+            let w = co.sub(State::RF_TIR, Reg::CUR_D, Reg::PAR_D, t::U, Lanes::XYZ);
+            self.dir = DirFlags::of(&w);
+        } else {
+            co.sqrt(State::RF_SQRT, t::U, t::U);
+            co.mulx(State::RF_EDN, t::G, t::Q, trn, Lanes::X);
+            co.add(State::RF_COEF, t::G, t::G, t::U, Lanes::X);
+            co.mulx(State::RF_ED, t::V, Reg::PAR_D, trn, Lanes::XYZ);
+            co.mulx(State::RF_CN, t::S, t::N, t::G, Lanes::XYZ);
+            co.sub(State::RF_DIR, t::R, t::V, t::S, Lanes::XYZ); // t, inside
+            co.sub(State::RF_CV, t::V, Reg::CUR_O, c, Lanes::XYZ);
+            self.dot(t::Q, t::V, t::R); // Q.x = b
+            let co = &mut self.core;
+            co.nmulx(State::RF_CBD, t::U, t::R, t::Q, Lanes::XYZ);
+            co.add(State::RF_CW, t::V, t::V, t::U, Lanes::XYZ);
+            let disc_neg = self.isect(t::V, t::V, t::R, r).neg(0);
+            let co = &mut self.core;
+            let root = if disc_neg {
+                Reg::ZERO
+            } else {
+                co.sqrt(State::RF_CSQRT, t::S, t::S);
+                t::S
+            };
+            co.sub(State::RF_CS, t::S, root, t::Q, Lanes::X); // s = sqrt(disc) - b
+            co.mulx(State::RF_CST, t::U, t::R, t::S, Lanes::XYZ);
+            co.add(State::RF_EXIT, Reg::CUR_O, Reg::CUR_O, t::U, Lanes::XYZ);
+            co.sub(State::RF_OSUB, t::N, Reg::CUR_O, c, Lanes::XYZ);
+            co.muly(State::RF_OSCALE, t::N, t::N, r, Lanes::XYZ);
+            self.dot(t::Q, t::R, t::N); // Q.x = t.n' = cos
+            let co = &mut self.core;
+            co.mul(State::RF_OCOS2, t::U, t::Q, t::Q, Lanes::X);
+            co.sub(State::RF_OSIN2, t::U, Reg::ONE, t::U, Lanes::X);
+            co.muly(State::RF_OIOR1, t::U, t::U, trn, Lanes::X);
+            co.muly(State::RF_OIOR2, t::U, t::U, trn, Lanes::X);
+            let k_neg = co.sub(State::RF_OK, t::U, Reg::ONE, t::U, Lanes::X).neg(0);
+            co.muly(State::RF_OEDN, t::G, t::Q, trn, Lanes::X); // ior cos
+            if !k_neg {
+                co.sqrt(State::RF_OSQRT, t::U, t::U);
+                co.sub(State::RF_OCOEF, t::G, t::G, t::U, Lanes::X);
+            }
+            co.muly(State::RF_OED, t::V, t::R, trn, Lanes::XYZ);
+            co.mulx(State::RF_OCN, t::S, t::N, t::G, Lanes::XYZ);
+            let w = co.sub(State::RF_ODIR, Reg::CUR_D, t::V, t::S, Lanes::XYZ);
+            self.dir = DirFlags::of(&w);
+        }
+        self.core
+            .mulz(State::RF_CHILD_W, Reg::CUR_W, Reg::PAR_W, trn, Lanes::XYZ);
+    }
+
+    // -----------------------------------------------------------------------
     // Unwinding (thesis 3.6: "this ray's color is added to its parent's")
     // -----------------------------------------------------------------------
 
-    fn unwind(&mut self) {
+    /// Adds the colours of the finished rays into their parents', level by
+    /// level, until a level owes a refracted child: that child is made
+    /// current at the level just added ([`Program::refract`]) and its
+    /// sphere returned. `None` when the root is reached.
+    fn unwind(&mut self) -> Option<usize> {
         while self.core.sp > 0 {
             let sp = self.core.sp;
             if self.coloured[sp] {
@@ -663,12 +791,17 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
                     self.coloured[sp - 1] = true;
                 }
             }
+            if let Some(k) = self.pending[sp - 1].take() {
+                self.refract(k);
+                return Some(k);
+            }
             self.core.sp -= 1;
         }
         if !self.coloured[0] {
             self.core
                 .mov(State::ROOT_BLACK, Reg::CUR_COL, Reg::ZERO, Lanes::XYZ);
         }
+        None
     }
 }
 

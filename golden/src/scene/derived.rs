@@ -20,6 +20,9 @@ pub struct Derived {
     pub inv_radius: Vec<f32>,
     /// r*r per sphere, in f32.
     pub radius_sq: Vec<f32>,
+    /// 1/ior per sphere: `1.0f64 / ior` rounded to f32, the index ratio
+    /// `eta` of the way into the sphere (refraction).
+    pub inv_ior: Vec<f32>,
     /// `facing * unit(axis)` per plane (the other components are +0.0).
     pub plane_normal: Vec<Vec3f>,
     /// Lower corner of the axis-aligned box around all spheres: the exact
@@ -62,6 +65,10 @@ impl Derived {
                 .map(|s| (1.0f64 / f64::from(s.radius)) as f32)
                 .collect(),
             radius_sq: spheres.iter().map(|s| s.radius * s.radius).collect(),
+            inv_ior: spheres
+                .iter()
+                .map(|s| (1.0f64 / f64::from(s.material.ior)) as f32)
+                .collect(),
             plane_normal: planes.iter().map(Plane::normal).collect(),
             bbox_min,
             bbox_max,
