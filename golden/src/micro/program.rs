@@ -171,6 +171,10 @@ impl<'c, T: FnMut(&TraceEvent, &'static Location<'static>)> Program<'c, T> {
                 let push = reflect || refract.is_some();
                 if push {
                     self.core.sp += 1;
+                    // The level may have held a ray of an earlier subtree
+                    // (a reflected child's, before its sibling refracted
+                    // one): its colour is not this child's.
+                    self.coloured[self.core.sp] = false;
                 }
                 self.shade(obj, push, reflect);
                 if !push {
