@@ -171,7 +171,11 @@ impl CosimArgs {
 /// Returns whether the RTL agreed with golden everywhere.
 pub fn run(args: CosimArgs) -> Result<bool> {
     let scene = args.scene.load()?;
-    traceable(&format!("--scene {}", args.scene.scene), &scene)?;
+    traceable(
+        &format!("--scene {}", args.scene.scene),
+        &scene,
+        &[args.processor],
+    )?;
     let window = args.window.unwrap_or(Window::full(&scene));
     check_window("--window", window, &scene)?;
     let trace_window = args.trace_window.unwrap_or(window);

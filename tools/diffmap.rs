@@ -200,7 +200,8 @@ impl Side<'_> {
                 args.sqrt = self.sqrt.or(args.sqrt);
                 let scene = args.load()?;
                 if *renderer == Renderer::Rtl {
-                    traceable(&format!("side {} ({})", self.name, renderer.name()), &scene)?;
+                    let label = format!("side {} ({})", self.name, renderer.name());
+                    traceable(&label, &scene, &[ProcessorKind::default()])?;
                 }
                 Ok(Input::Model(*renderer, Box::new(scene)))
             }

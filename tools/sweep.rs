@@ -87,7 +87,11 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         .iter()
         .map(|n| {
             let scene = scenes::load_with(n, overrides).with_context(|| format!("--scene {n}"))?;
-            traceable(&format!("--scene {n}"), &scene)?;
+            traceable(
+                &format!("--scene {n}"),
+                &scene,
+                &args.processor.map(|p| vec![p]).unwrap_or_default(),
+            )?;
             Ok(NamedScene {
                 name: n.clone(),
                 toml: scene.to_toml(),

@@ -96,9 +96,13 @@ struct RtlAnswer {
 /// configuration meets the target or the RTL disagrees with golden on it.
 pub fn run(args: TuneArgs) -> Result<bool> {
     let scene = args.scene.load()?;
-    traceable(&format!("--scene {}", args.scene.scene), &scene)?;
     let pool = args.threads.pool()?;
     let processors: Vec<ProcessorKind> = args.processor.into_iter().collect();
+    traceable(
+        &format!("--scene {}", args.scene.scene),
+        &scene,
+        &processors,
+    )?;
     // The pick is co-simulated before it is recommended: any pick's model.
     rtcosim::campaign::sweep::check_rtl_models(
         &tune::grid(&scene, &processors).configs(),

@@ -45,7 +45,7 @@ pub enum PpError {
         /// The scene's exposure, as bits (the error is `Eq`).
         exposure_bits: u32,
     },
-    /// A scene the processors cannot trace ([`untraceable`]).
+    /// A scene the processor cannot trace ([`untraceable`]).
     #[error("{0}")]
     Untraceable(String),
     /// A pixel before any scene was loaded.
@@ -154,26 +154,34 @@ impl std::fmt::Display for ProcessorId {
     }
 }
 
-/// What of `scene` the processors cannot trace, named by the field that
-/// asks for it: refraction, which golden's models trace (the f64 reference
-/// and the micro-op model) and the RTL does not yet. `None` for every
-/// other valid scene.
-pub fn untraceable(scene: &Scene) -> Option<String> {
+/// What of `scene` a processor that traces no refraction (its row's
+/// `refraction`) cannot draw, named by the field that asks for it: the
+/// first transparent sphere. `None` for every other valid scene.
+pub fn untraceable(scene: &Scene, refraction: bool, processor: &str) -> Option<String> {
+    if refraction {
+        return None;
+    }
     let i = scene
         .spheres
         .iter()
         .position(|s| s.material.transparent())?;
     Some(format!(
-        "sphere[{i}].transmission = {}: the processors trace no refraction yet (golden's \
-         models do: `render --model reference` or `--model micro`)",
+        "sphere[{i}].transmission = {}: the {processor} processor traces no refraction yet \
+         (the compact one does, and golden's models: `render --model reference` or `--model micro`)",
         scene.spheres[i].material.transmission
     ))
 }
 
-/// Refuses `scene` unless the processors can trace it and it uses the
-/// float methods a model was verilated with.
-pub(crate) fn check_scene(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
-    if let Some(why) = untraceable(scene) {
+/// Refuses `scene` unless the processor (`processor`, whether it traces
+/// refraction) can trace it and it uses the float methods a model was
+/// verilated with.
+pub(crate) fn check_scene(
+    scene: &Scene,
+    (processor, refraction): (&str, bool),
+    recip: Method,
+    sqrt: Method,
+) -> Result<(), PpError> {
+    if let Some(why) = untraceable(scene, refraction, processor) {
         return Err(PpError::Untraceable(why));
     }
     let r = &scene.render;

@@ -10,6 +10,7 @@
 //   registers  0 .. ISA_REG_CUR_O - 1: scene registers, constants and
 //              temporaries
 //   stack      ISA_REG_STK0_O + STK_STRIDE * level + field, level < STACK_DEPTH
+//   refraction ISA_REG_TRN0 + k, k < ISA_DIM_TRN_COUNT (REFRACTION = 1 only)
 // Every other address (the logical CUR/PAR codes, levels past STACK_DEPTH)
 // has no storage: it reads as 0 and writes to it are dropped.
 //
@@ -18,7 +19,8 @@
 // and the program write every register before it is read.
 // ============================================================================
 module memory #(
-    parameter integer STACK_DEPTH = `ISA_DIM_STK_COUNT
+    parameter integer STACK_DEPTH = `ISA_DIM_STK_COUNT,
+    parameter integer REFRACTION  = 1   // 0: no TRN registers (a scene without refraction)
 ) (
     input  wire                         clk,
     input  wire [`ISA_DIM_REG_BITS-1:0] ra_a,
@@ -36,6 +38,9 @@ module memory #(
     localparam integer STK_WORDS = STACK_DEPTH * `ISA_DIM_STK_STRIDE;
     localparam integer STK_BITS  = $clog2(STK_WORDS);
     localparam integer REG_BITS  = $clog2(REG_WORDS);
+    localparam integer TRN_WORDS = `ISA_DIM_TRN_COUNT;
+    localparam integer TRN_BITS  = $clog2(TRN_WORDS);
+    localparam [RB-1:0] TRN0     = `ISA_REG_TRN0;
 
     localparam [RB-1:0] REG_END = `ISA_REG_CUR_O;
     localparam [RB-1:0] STK0_O  = `ISA_REG_STK0_O;
@@ -54,6 +59,10 @@ module memory #(
     wire          b_in_stk = (ra_b >= STK0_O) && ({1'b0, b_off} < STK_END);
     wire          w_in_stk = (wa >= STK0_O) && ({1'b0, w_off} < STK_END);
 
+    wire          a_in_trn = REFRACTION != 0 && (ra_a[RB-1:TRN_BITS] == TRN0[RB-1:TRN_BITS]);
+    wire          b_in_trn = REFRACTION != 0 && (ra_b[RB-1:TRN_BITS] == TRN0[RB-1:TRN_BITS]);
+    wire          w_in_trn = REFRACTION != 0 && (wa[RB-1:TRN_BITS] == TRN0[RB-1:TRN_BITS]);
+
     // The range checks use the whole address or offset, the arrays its low
     // bits.
     wire [REG_BITS-1:0] a_reg = ra_a[REG_BITS-1:0];
@@ -71,16 +80,20 @@ module memory #(
         for (gl = 0; gl < 3; gl = gl + 1) begin : g_lane
             reg [31:0] regs_q  [0:REG_WORDS-1];
             reg [31:0] stack_q [0:STK_WORDS-1];
+            reg [31:0] trn_q   [0:TRN_WORDS-1];
 
             always @(posedge clk) begin
                 if (we && wmask[gl] && w_in_reg) regs_q[w_reg] <= wd[32*gl +: 32];
                 if (we && wmask[gl] && w_in_stk) stack_q[w_idx] <= wd[32*gl +: 32];
+                if (we && wmask[gl] && w_in_trn) trn_q[wa[TRN_BITS-1:0]] <= wd[32*gl +: 32];
             end
 
             assign rd_a[32*gl +: 32] = a_in_reg ? regs_q[a_reg]
-                                     : a_in_stk ? stack_q[a_idx] : 32'd0;
+                                     : a_in_stk ? stack_q[a_idx]
+                                     : a_in_trn ? trn_q[ra_a[TRN_BITS-1:0]] : 32'd0;
             assign rd_b[32*gl +: 32] = b_in_reg ? regs_q[b_reg]
-                                     : b_in_stk ? stack_q[b_idx] : 32'd0;
+                                     : b_in_stk ? stack_q[b_idx]
+                                     : b_in_trn ? trn_q[ra_b[TRN_BITS-1:0]] : 32'd0;
         end
     endgenerate
 

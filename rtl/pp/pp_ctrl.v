@@ -94,13 +94,16 @@ module pp_ctrl (
 
     // The dot() call a DOT serves (program.rs), which fixes its operands and
     // where it returns.
-    localparam integer CALLW = 3;
-    localparam [CALLW-1:0] D_PRIMARY  = 3'd0,  // primary_ray: normalize(CUR_D, P), then nearest_hit
-                           D_LIGHT    = 3'd1,  // shade: normalize(L, R), then shadowed
-                           D_SPHERE   = 3'd2,  // sphere_u: b = v.d
-                           D_DIFFUSE  = 3'd3,  // shade: n.l
-                           D_REFLECT  = 3'd4,  // shade: d.n
-                           D_SPECULAR = 3'd5;  // shade: r.l
+    localparam integer CALLW = 4;
+    localparam [CALLW-1:0] D_PRIMARY  = 4'd0,  // primary_ray: normalize(CUR_D, P), then nearest_hit
+                           D_LIGHT    = 4'd1,  // shade: normalize(L, R), then shadowed
+                           D_SPHERE   = 4'd2,  // sphere_u: b = v.d
+                           D_DIFFUSE  = 4'd3,  // shade: n.l
+                           D_REFLECT  = 4'd4,  // shade: d.n
+                           D_SPECULAR = 4'd5,  // shade: r.l
+                           D_RF_IN    = 4'd6,  // refract: d.n
+                           D_RF_CHORD = 4'd7,  // refract: b = v.t
+                           D_RF_OUT   = 4'd8;  // refract: t.n'
 
     // Where shade() resumes after a term (shade_next).
     localparam [1:0] S_DIFFUSE = 2'd0, S_REFLECT = 2'd1, S_SPECULAR = 2'd2, S_LOCAL = 2'd3;
@@ -123,6 +126,8 @@ module pp_ctrl (
                         T_U    = `ISA_REG_T11;
 
     localparam [LN-1:0] M_X = 1, M_Y = 2, M_Z = 4, M_XYZ = {LN{1'b1}};
+    localparam [RW-1:0] R_PAR_D    = `ISA_REG_PAR_D;
+    localparam [SW-1:0] ST_RF_NSUB = `ISA_ST_RF_NSUB;
 
     // ------------------------------------------------------------------------
     // The configuration
@@ -140,9 +145,10 @@ module pp_ctrl (
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
     wire [PLN_N*AB-1:0]  pln_axis  = cfg[`ISA_DIM_CFG_PLN_AXIS_LSB +: PLN_N*AB];
     wire [PLN_N-1:0]     pln_neg   = cfg[`ISA_DIM_CFG_PLN_NEG_LSB +: PLN_N];
+    wire [SPH_N-1:0]     sph_trn   = cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
     // The word's spare bits.
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
-                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_EXPOSURE_LSB + 1],
+                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_TRN_LSB + SPH_N],
                         cfg[`ISA_DIM_CFG_DEPTH_LSB - 1:`ISA_DIM_CFG_PLANES_LSB + NPW]};
 
     // ------------------------------------------------------------------------
@@ -168,6 +174,11 @@ module pp_ctrl (
     reg             diff_q, diff_d;           // shade: the diffuse term is written
     reg             spec_q, spec_d;           // shade: the specular term is written
     reg [STK_N-1:0] col_q, col_d;             // the levels whose colour is written
+    reg             refr_q, refr_d;           // its shading spawns a refracted child
+    reg             rcut_q, rcut_d;           // the weight cutoff refused the refracted child (RF_CUT_CMP)
+    reg [STK_N-1:0] pend_q, pend_d;           // per level: a refracted child is owed (after the reflected subtree)
+    reg [STK_N*OW-1:0] pidx_q, pidx_d;        // per level: its sphere
+    reg             rfneg_q, rfneg_d;         // refract: the chord's disc, or the exit's k', is < 0 (taken as 0)
     reg [LN-1:0]    dsign_q, dsign_d, dneg_q, dneg_d, dpos_q, dpos_d;  // DirFlags
 
     always @(posedge clk or negedge rst_n) begin
@@ -193,6 +204,11 @@ module pp_ctrl (
             diff_q      <= 1'b0;
             spec_q      <= 1'b0;
             col_q       <= {STK_N{1'b0}};
+            refr_q      <= 1'b0;
+            rcut_q      <= 1'b0;
+            pend_q      <= {STK_N{1'b0}};
+            pidx_q      <= {(STK_N*OW){1'b0}};
+            rfneg_q     <= 1'b0;
             dsign_q     <= {LN{1'b0}};
             dneg_q      <= {LN{1'b0}};
             dpos_q      <= {LN{1'b0}};
@@ -218,6 +234,11 @@ module pp_ctrl (
             diff_q      <= diff_d;
             spec_q      <= spec_d;
             col_q       <= col_d;
+            refr_q      <= refr_d;
+            rcut_q      <= rcut_d;
+            pend_q      <= pend_d;
+            pidx_q      <= pidx_d;
+            rfneg_q     <= rfneg_d;
             dsign_q     <= dsign_d;
             dneg_q      <= dneg_d;
             dpos_q      <= dpos_d;
@@ -265,13 +286,22 @@ module pp_ctrl (
 
     // The ray being shaded (program.rs, struct Shading): when pushing, the
     // child's level is current and the parent's is shaded.
-    wire [RW-1:0]  shading_o     = push_q ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
-    wire [RW-1:0]  shading_d     = push_q ? `ISA_REG_PAR_D : `ISA_REG_CUR_D;
-    wire [RW-1:0]  shading_col   = push_q ? `ISA_REG_PAR_COL : `ISA_REG_CUR_COL;
-    wire [RW-1:0]  shading_w     = push_q ? `ISA_REG_PAR_W : `ISA_REG_CUR_W;
-    wire [RW-1:0]  shading_p     = push_q ? `ISA_REG_CUR_O : T_P;
-    wire [RW-1:0]  shading_r     = push_q ? `ISA_REG_CUR_D : T_R;
-    wire [SPW-1:0] shading_level = push_q ? sp_q - 1'b1 : sp_q;
+    // A child is pushed for the reflected ray (push_q) or the refracted one
+    // (refr_q): either way p goes to its origin.
+    wire           child_q       = push_q || refr_q;
+    wire [RW-1:0]  shading_o     = child_q ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
+    wire [RW-1:0]  shading_d     = child_q ? `ISA_REG_PAR_D : `ISA_REG_CUR_D;
+    wire [RW-1:0]  shading_col   = child_q ? `ISA_REG_PAR_COL : `ISA_REG_CUR_COL;
+    wire [RW-1:0]  shading_w     = child_q ? `ISA_REG_PAR_W : `ISA_REG_CUR_W;
+    wire [RW-1:0]  shading_p     = child_q ? `ISA_REG_CUR_O : T_P;
+    wire [RW-1:0]  shading_r     = child_q ? `ISA_REG_CUR_D : T_R;
+    wire [SPW-1:0] shading_level = child_q ? sp_q - 1'b1 : sp_q;
+
+    // refract: sphere idx_q's registers (the jump into RF_NSUB sets it).
+    wire [RW-1:0]  rf_c = sphere(idx_q, `ISA_REG_SPH0_C);
+    wire [RW-1:0]  rf_r = sphere(idx_q, `ISA_REG_SPH0_R);
+    wire [RW-1:0]  rf_t = `ISA_REG_TRN0 + idx_q * `ISA_DIM_TRN_STRIDE;
+    wire           chord = (call_q == D_RF_CHORD);
 
     // The ray under test (the o, d of sphere_u, plane_u_checked, box_hit):
     // nearest_hit's is the current level's, shadowed's is (p, L).
@@ -287,6 +317,9 @@ module pp_ctrl (
             D_SPHERE:   dot_args = {T_Q, T_V, ray_d};
             D_DIFFUSE:  dot_args = {T_V, n, T_L};
             D_REFLECT:  dot_args = {T_Q, d, n};
+            D_RF_IN:    dot_args = {T_Q, R_PAR_D, T_N};
+            D_RF_CHORD: dot_args = {T_Q, T_V, T_R};
+            D_RF_OUT:   dot_args = {T_Q, T_R, T_N};
             default:    dot_args = {T_Q, r, T_L};
         endcase
     endfunction
@@ -372,25 +405,36 @@ module pp_ctrl (
     // With the weight cutoff, cut() first (CUT_W, CUT_CMP) where a push
     // would follow, and no push if it refused (cut_q).
     wire [MB-1:0] best_bits = bits(best_kind_q, best_idx_q, sph_bits, pln_bits);
-    wire          run_push  = best_bits[MAT_REFLECTIVE] && ({1'b0, sp_q} + 1'b1 < max_depth)
-                              && !(cutoff && cut_q);
+    wire          room      = ({1'b0, sp_q} + 1'b1 < max_depth);
+    wire          run_push  = best_bits[MAT_REFLECTIVE] && room && !(cutoff && cut_q);
+    // ... and its refracted child if it is a transparent sphere.
+    wire          best_trn  = best_kind_q == K_SPH && sph_trn[best_idx_q];
+    wire          run_refr  = best_trn && room && !(cutoff && rcut_q);
     wire          unused_best_terms = best_bits[MAT_DIFFUSE] ^ best_bits[MAT_SPECULAR];
 
-    // run: whether a search that ends with object (kind, idx) as its
-    // nearest hit goes to cut() before shading: the cutoff is on, the
-    // object reflective and the stack has a level left.
-    function cut_first(input on, input kind, input [OW-1:0] idx, input [SPH_N*MB-1:0] sph,
-                       input [PLN_N*MB-1:0] pln, input [SPW-1:0] level, input [DW-1:0] depth);
+    // run: the first state of shading a search's nearest hit (kind, idx):
+    // with the cutoff on and a level left, cut() for its reflected child
+    // (CUT_W) if it is reflective, else for its refracted one (RF_CUT_W) if
+    // it is a transparent sphere; else SH_OFFSET.
+    function [SW-1:0] shade_first(input on, input kind, input [OW-1:0] idx,
+                                  input [SPH_N*MB-1:0] sph, input [PLN_N*MB-1:0] pln,
+                                  input [SPH_N-1:0] trn, input room_on);
         reg [MB-1:0] b;
         begin
             b = bits(kind, idx, sph, pln);
-            cut_first = on && b[MAT_REFLECTIVE] && ({1'b0, level} + 1'b1 < depth);
+            if (on && room_on && b[MAT_REFLECTIVE])
+                shade_first = `ISA_ST_CUT_W;
+            else if (on && room_on && kind == K_SPH && trn[idx])
+                shade_first = `ISA_ST_RF_CUT_W;
+            else
+                shade_first = `ISA_ST_SH_OFFSET;
         end
     endfunction
     // The nearest hit so far, and the object under test (which becomes the
     // nearest hit in the cycle that decides: offer's first hit, HIT_KEEP).
-    wire cut_best = cut_first(cutoff, best_kind_q, best_idx_q, sph_bits, pln_bits, sp_q, max_depth);
-    wire cut_this = cut_first(cutoff, kind_q, idx_q, sph_bits, pln_bits, sp_q, max_depth);
+    wire [SW-1:0] cut_best = shade_first(cutoff, best_kind_q, best_idx_q, sph_bits, pln_bits,
+                                         sph_trn, room);
+    wire [SW-1:0] cut_this = shade_first(cutoff, kind_q, idx_q, sph_bits, pln_bits, sph_trn, room);
     // cut(): the hit object's kr and its copy of the cutoff (lane z of its
     // R / Q register).
     wire [RW-1:0] best_mat = best_kind_q == K_SPH ? sphere(best_idx_q, `ISA_REG_SPH0_MAT)
@@ -402,34 +446,55 @@ module pp_ctrl (
     // in program.rs) when the scene has one, else PIX_DONE.
     wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
 
-    // unwind: skip the uncoloured levels above the highest coloured one at
-    // or below `from` (their `if` issues nothing), then one POP per level
-    // down to 1, then `last` (or ROOT_BLACK if level 0 has no colour): {st, sp}.
-    function [SW+SPW-1:0] unwind(input [SPW-1:0] from, input [STK_N-1:0] col, input [SW-1:0] last);
+    // unwind: skip the levels above the highest one at or below `from` that
+    // is coloured (a POP adds it into its parent) or whose parent owes a
+    // refracted child (which takes that level next); their `if` issues
+    // nothing. Then that POP, or the refracted child (RF_NSUB, its sphere
+    // in idx); with no such level, `last` (or ROOT_BLACK if level 0 has no
+    // colour): {st, sp, kind, idx}.
+    function [SW+SPW+1+OW-1:0] unwind(input [SPW-1:0] from, input [STK_N-1:0] col,
+                                      input [STK_N-1:0] pend, input [STK_N*OW-1:0] pidx,
+                                      input [SW-1:0] last);
         integer   l;
         reg       found;
-        reg [SPW-1:0] lvl;
+        reg [SPW-1:0] lvl, up;
         begin
             found = 1'b0;
             lvl   = {SPW{1'b0}};
             for (l = 1; l < STK_N; l = l + 1)
-                if (l[SPW-1:0] <= from && col[l]) begin
+                if (l[SPW-1:0] <= from && (col[l] || pend[l - 1])) begin
                     found = 1'b1;
                     lvl   = l[SPW-1:0];
                 end
-            unwind[0 +: SPW] = lvl;
-            if (found)
-                unwind[SPW +: SW] = col[lvl - 1'b1] ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
+            up = lvl - 1'b1;
+            unwind[0 +: OW]             = pidx[OW*up +: OW];
+            unwind[OW]                  = K_SPH;
+            unwind[1 + OW +: SPW]       = lvl;
+            if (found && col[lvl])
+                unwind[1 + OW + SPW +: SW] = col[lvl - 1'b1] ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
+            else if (found)
+                unwind[1 + OW + SPW +: SW] = `ISA_ST_RF_NSUB;
             else
-                unwind[SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
+                unwind[1 + OW + SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
         end
+    endfunction
+    // A jump from an unwind: {st, sp, call, kind, idx}.
+    function [SW+SPW+CALLW+1+OW-1:0] unwind_jump(input [SW+SPW+1+OW-1:0] u, input [CALLW-1:0] call);
+        unwind_jump = {u[1 + OW +: SW + SPW], call, u[0 +: 1 + OW]};
     endfunction
 
     // A jump: the next {st, sp, call, kind, idx}. `stay` keeps them all.
     localparam integer JW = SW + SPW + CALLW + 1 + OW;
     localparam integer J_IDX = 0, J_KIND = OW, J_CALL = OW + 1, J_ST = OW + 1 + CALLW + SPW;
     wire [JW-1:0] stay       = {st_q, sp_q, call_q, kind_q, idx_q};
-    wire [JW-1:0] unwind_now = {unwind(sp_q, col_q, pixel_end), call_q, kind_q, idx_q};
+    wire [JW-1:0] unwind_now = unwind_jump(unwind(sp_q, col_q, pend_q, pidx_q, pixel_end), call_q);
+    // After a POP at level sp: its parent's refracted child takes the level.
+    wire [SPW-1:0] sp_up       = sp_q - 1'b1;
+    wire [JW-1:0] refract_here = {ST_RF_NSUB, sp_q, call_q, K_SPH, pidx_q[OW*sp_up +: OW]};
+    // The end of shading: the refracted child at once if it is the only one
+    // (sp is already its level), else the unwinding.
+    wire [JW-1:0] shade_end    = (refr_q && !push_q) ? {ST_RF_NSUB, sp_q, call_q, K_SPH, obj_idx_q}
+                                                     : unwind_now;
 
     // shade, from the term `from` on (n.l and diffuse, reflected direction,
     // specular, local colour): the next term the object's bits and `lit`
@@ -468,9 +533,9 @@ module pp_ctrl (
 
     // shadowed() has returned: lit = !shadowed (found_q from then on).
     wire [JW-1:0] shadowed_false = shade_next(S_DIFFUSE, 1'b1, diff_q, spec_q, obj_bits, push_q,
-                                              stay, unwind_now);
+                                              stay, shade_end);
     wire [JW-1:0] shadowed_true  = shade_next(S_DIFFUSE, 1'b0, diff_q, spec_q, obj_bits, push_q,
-                                              stay, unwind_now);
+                                              stay, shade_end);
 
     // nearest_hit, shadowed: the next object of the search, else its end.
     // `sph` is the next sphere ({0, x} once the sphere loop is over) and
@@ -479,7 +544,7 @@ module pp_ctrl (
     // shadowed returns false, nearest_hit its hit (shade it) or none.
     function [JW-1:0] nearest_hit_next(input [JW-1:0] stay_j, input box, input [OW:0] sph,
                                        input leaving_spheres, input [OW:0] pln, input ctx,
-                                       input found, input shortcut_on, input cut,
+                                       input found, input shortcut_on, input [SW-1:0] shade_st,
                                        input [JW-1:0] clear_j, input [JW-1:0] unwind_j);
         begin
             nearest_hit_next = stay_j;
@@ -500,7 +565,7 @@ module pp_ctrl (
             else if (ctx == C_SHD)
                 nearest_hit_next = clear_j;
             else if (found)
-                nearest_hit_next[J_ST +: SW] = cut ? `ISA_ST_CUT_W : `ISA_ST_SH_OFFSET;
+                nearest_hit_next[J_ST +: SW] = shade_st;
             else
                 nearest_hit_next = unwind_j;
         end
@@ -589,6 +654,11 @@ module pp_ctrl (
         diff_d      = diff_q;
         spec_d      = spec_q;
         col_d       = col_q;
+        refr_d      = refr_q;
+        rcut_d      = rcut_q;
+        pend_d      = pend_q;
+        pidx_d      = pidx_q;
+        rfneg_d     = rfneg_q;
         dsign_d     = dsign_q;
         dneg_d      = dneg_q;
         dpos_d      = dpos_q;
@@ -604,6 +674,9 @@ module pp_ctrl (
                 excl_d  = 1'b0;
                 push_d  = 1'b0;
                 cut_d   = 1'b0;
+                refr_d  = 1'b0;
+                rcut_d  = 1'b0;
+                pend_d  = {STK_N{1'b0}};
                 dsign_d = {LN{1'b0}};
                 dneg_d  = {LN{1'b0}};
                 dpos_d  = {LN{1'b0}};
@@ -666,15 +739,21 @@ module pp_ctrl (
                         facing_d = y_pos[0];
                         if (y_pos[0] && obj_bits[MAT_DIFFUSE]) st_d = `ISA_ST_SH_KD;
                         else {st_d, sp_d, call_d, kind_d, idx_d} =
-                            shade_next(S_REFLECT, y_pos[0], diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                            shade_next(S_REFLECT, y_pos[0], diff_q, spec_q, obj_bits, push_q, stay, shade_end);
                     end
                     D_REFLECT:
                         st_d = `ISA_ST_SH_REFL_K;
+                    D_RF_IN:
+                        st_d = `ISA_ST_RF_COS2;
+                    D_RF_CHORD:
+                        st_d = `ISA_ST_RF_CBD;
+                    D_RF_OUT:
+                        st_d = `ISA_ST_RF_OCOS2;
                     // shade: r.l > 0, or no specular term.
                     default:
                         if (y_pos[0]) st_d = `ISA_ST_SH_POW2;
                         else {st_d, sp_d, call_d, kind_d, idx_d} =
-                            shade_next(S_LOCAL, facing_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                            shade_next(S_LOCAL, facing_q, diff_q, spec_q, obj_bits, push_q, stay, shade_end);
                 endcase
             end
 
@@ -715,7 +794,7 @@ module pp_ctrl (
             `ISA_ST_ISECT_2: begin
                 op   = `ISA_OP_ISECT2;
                 la_w = T_G;
-                la_a = search_d;
+                la_a = chord ? T_R : search_d;
                 la_b = kind_q == K_SPH ? T_V : plane(idx_q, `ISA_REG_PLN0_N);
                 st_d = `ISA_ST_ISECT_3;
             end
@@ -729,7 +808,11 @@ module pp_ctrl (
                 op   = `ISA_OP_ISECT4;
                 la_w = T_S;
                 la_a = kind_q == K_SPH ? sphere(idx_q, `ISA_REG_SPH0_R) : plane(idx_q, `ISA_REG_PLN0_Q);
-                if (kind_q == K_SPH ? y_neg[0] : (!fast && !y_neg[1]))
+                if (chord) begin
+                    // refract: the chord's disc < 0 (rounding) is taken as 0.
+                    rfneg_d = y_neg[0];
+                    st_d    = y_neg[0] ? `ISA_ST_RF_CS : `ISA_ST_RF_CSQRT;
+                end else if (kind_q == K_SPH ? y_neg[0] : (!fast && !y_neg[1]))
                     {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_after;
                 else
                     st_d = kind_q == K_SPH ? `ISA_ST_SPH_SQRT : `ISA_ST_PLN_RECIP;
@@ -876,7 +959,19 @@ module pp_ctrl (
             `ISA_ST_CUT_CMP: begin
                 op = `ISA_OP_SUB; la_w = T_G; la_a = T_U; la_b = best_cut; wmask = M_Z;
                 cut_d = y_neg[2];
-                st_d  = `ISA_ST_SH_OFFSET;
+                st_d  = (best_trn && room) ? `ISA_ST_RF_CUT_W : `ISA_ST_SH_OFFSET;
+            end
+            // U.z = CUR_W.z * kt: the refracted child's weight
+            `ISA_ST_RF_CUT_W: begin
+                op = `ISA_OP_MULZ; la_w = T_U; la_a = `ISA_REG_CUR_W;
+                la_b = `ISA_REG_TRN0 + best_idx_q * `ISA_DIM_TRN_STRIDE; wmask = M_Z;
+                st_d = `ISA_ST_RF_CUT_CMP;
+            end
+            // G.z = U.z - c < 0: no refracted child (run_refr reads rcut_q)
+            `ISA_ST_RF_CUT_CMP: begin
+                op = `ISA_OP_SUB; la_w = T_G; la_a = T_U; la_b = best_cut; wmask = M_Z;
+                rcut_d = y_neg[2];
+                st_d   = `ISA_ST_SH_OFFSET;
             end
 
             // ---- before_light --------------------------------------------------
@@ -897,8 +992,12 @@ module pp_ctrl (
             `ISA_ST_SH_OFFSET: begin
                 op = `ISA_OP_NMULX; la_w = T_V; la_a = `ISA_REG_CUR_D; la_b = T_BEST;
                 push_d     = run_push;
+                refr_d     = run_refr;
                 cut_d      = 1'b0;
-                sp_d       = sp_q + {{(SPW - 1){1'b0}}, run_push};
+                rcut_d     = 1'b0;
+                sp_d       = sp_q + {{(SPW - 1){1'b0}}, run_push || run_refr};
+                // The child's level may hold an earlier subtree's colour.
+                if (run_push || run_refr) col_d[sp_q + 1'b1] = 1'b0;
                 obj_kind_d = best_kind_q;
                 obj_idx_d  = best_idx_q;
                 excl_d     = 1'b1;
@@ -943,7 +1042,7 @@ module pp_ctrl (
                 op = `ISA_OP_MULX; la_w = T_S; la_a = T_S; la_b = T_G;
                 diff_d = 1'b1;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_REFLECT, facing_q, 1'b1, spec_q, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_REFLECT, facing_q, 1'b1, spec_q, obj_bits, push_q, stay, shade_end);
             end
             // U = 2 (d.n) n
             `ISA_ST_SH_REFL_K: begin
@@ -957,7 +1056,7 @@ module pp_ctrl (
                 dneg_d  = y_neg;
                 dpos_d  = y_pos;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_SPECULAR, facing_q, diff_q, spec_q, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_SPECULAR, facing_q, diff_q, spec_q, obj_bits, push_q, stay, shade_end);
             end
             // U.x = x^2, x^4, x^5, x^10, x^20 (x = r.l)
             `ISA_ST_SH_POW2: begin
@@ -990,7 +1089,7 @@ module pp_ctrl (
                 op = `ISA_OP_MULY; la_w = T_G; la_a = `ISA_REG_LIGHT_COL; la_b = T_V;
                 spec_d = 1'b1;
                 {st_d, sp_d, call_d, kind_d, idx_d} =
-                    shade_next(S_LOCAL, facing_q, diff_q, 1'b1, obj_bits, push_q, stay, unwind_now);
+                    shade_next(S_LOCAL, facing_q, diff_q, 1'b1, obj_bits, push_q, stay, shade_end);
             end
             // S = diffuse + specular
             `ISA_ST_SH_LOCAL: begin
@@ -1005,11 +1104,197 @@ module pp_ctrl (
                 la_b = shading_w;
                 col_d[shading_level] = 1'b1;
                 if (push_q) st_d = `ISA_ST_SH_CHILD_W;
-                else        {st_d, sp_d} = unwind(sp_q, col_d, pixel_end);
+                else if (refr_q) {st_d, sp_d, call_d, kind_d, idx_d} = shade_end;
+                else {st_d, sp_d, call_d, kind_d, idx_d} =
+                         unwind_jump(unwind(sp_q, col_d, pend_q, pidx_q, pixel_end), call_q);
             end
             // CUR_W = PAR_W * kr, then the child's nearest_hit
             `ISA_ST_SH_CHILD_W: begin
                 op = `ISA_OP_MULZ; la_w = `ISA_REG_CUR_W; la_a = `ISA_REG_PAR_W; la_b = obj_mat;
+                ctx_d   = C_HIT;
+                found_d = 1'b0;
+                // The hit's refracted child waits for this subtree.
+                pend_d[sp_q - 1'b1]                 = refr_q;
+                pidx_d[OW*sp_up +: OW]              = obj_idx_q;
+                {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_start;
+            end
+
+            // ---- refract: the refracted child of a hit on sphere idx_q --------
+            // p in CUR_O (this level's), d in PAR_D; TRN = <eta, ior, kt>.
+            // N = p - c; the child's search skips the sphere; its colour is
+            // unwritten; the level's parent owes it no longer.
+            `ISA_ST_RF_NSUB: begin
+                op = `ISA_OP_SUB; la_w = T_N; la_a = `ISA_REG_CUR_O; la_b = rf_c;
+                obj_kind_d         = K_SPH;
+                obj_idx_d          = idx_q;
+                excl_d             = 1'b1;
+                col_d[sp_q]        = 1'b0;
+                pend_d[sp_q - 1'b1] = 1'b0;
+                st_d = `ISA_ST_RF_NSCALE;
+            end
+            // N = n = (p - c) * 1/r, then Q.x = d.n
+            `ISA_ST_RF_NSCALE: begin
+                op = `ISA_OP_MULY; la_w = T_N; la_a = T_N; la_b = rf_r;
+                st_d   = `ISA_ST_DOT_1;
+                call_d = D_RF_IN;
+            end
+            // U.x = (d.n)^2, 1 - that, times eta twice, k = 1 - that
+            `ISA_ST_RF_COS2: begin
+                op = `ISA_OP_MUL; la_w = T_U; la_a = T_Q; la_b = T_Q; wmask = M_X;
+                st_d = `ISA_ST_RF_SIN2;
+            end
+            `ISA_ST_RF_SIN2: begin
+                op = `ISA_OP_SUB; la_w = T_U; la_a = `ISA_REG_ONE; la_b = T_U; wmask = M_X;
+                st_d = `ISA_ST_RF_ETA1;
+            end
+            `ISA_ST_RF_ETA1: begin
+                op = `ISA_OP_MULX; la_w = T_U; la_a = T_U; la_b = rf_t; wmask = M_X;
+                st_d = `ISA_ST_RF_ETA2;
+            end
+            `ISA_ST_RF_ETA2: begin
+                op = `ISA_OP_MULX; la_w = T_U; la_a = T_U; la_b = rf_t; wmask = M_X;
+                st_d = `ISA_ST_RF_K;
+            end
+            // k < 0: total internal reflection
+            `ISA_ST_RF_K: begin
+                op = `ISA_OP_SUB; la_w = T_U; la_a = `ISA_REG_ONE; la_b = T_U; wmask = M_X;
+                st_d = y_neg[0] ? `ISA_ST_RF_TIR_K : `ISA_ST_RF_SQRT;
+            end
+            `ISA_ST_RF_SQRT: begin
+                op = `ISA_OP_SQRT; la_w = T_U; la_a = T_U; wmask = M_X;
+                if (alu_done) st_d = `ISA_ST_RF_EDN;
+            end
+            // G.x = eta (d.n) + sqrt(k)
+            `ISA_ST_RF_EDN: begin
+                op = `ISA_OP_MULX; la_w = T_G; la_a = T_Q; la_b = rf_t; wmask = M_X;
+                st_d = `ISA_ST_RF_COEF;
+            end
+            `ISA_ST_RF_COEF: begin
+                op = `ISA_OP_ADD; la_w = T_G; la_a = T_G; la_b = T_U; wmask = M_X;
+                st_d = `ISA_ST_RF_ED;
+            end
+            // R = t = eta d - G.x n
+            `ISA_ST_RF_ED: begin
+                op = `ISA_OP_MULX; la_w = T_V; la_a = `ISA_REG_PAR_D; la_b = rf_t;
+                st_d = `ISA_ST_RF_CN;
+            end
+            `ISA_ST_RF_CN: begin
+                op = `ISA_OP_MULX; la_w = T_S; la_a = T_N; la_b = T_G;
+                st_d = `ISA_ST_RF_DIR;
+            end
+            `ISA_ST_RF_DIR: begin
+                op = `ISA_OP_SUB; la_w = T_R; la_a = T_V; la_b = T_S;
+                st_d = `ISA_ST_RF_CV;
+            end
+            // The chord: V = p - c, then Q.x = b = v.t
+            `ISA_ST_RF_CV: begin
+                op = `ISA_OP_SUB; la_w = T_V; la_a = `ISA_REG_CUR_O; la_b = rf_c;
+                st_d   = `ISA_ST_DOT_1;
+                call_d = D_RF_CHORD;
+            end
+            // U = -b t; V = w = v - b t, then disc by ISECT
+            `ISA_ST_RF_CBD: begin
+                op = `ISA_OP_NMULX; la_w = T_U; la_a = T_R; la_b = T_Q;
+                st_d = `ISA_ST_RF_CW;
+            end
+            `ISA_ST_RF_CW: begin
+                op = `ISA_OP_ADD; la_w = T_V; la_a = T_V; la_b = T_U;
+                st_d = `ISA_ST_ISECT_1;
+            end
+            `ISA_ST_RF_CSQRT: begin
+                op = `ISA_OP_SQRT; la_w = T_S; la_a = T_S; wmask = M_X;
+                if (alu_done) st_d = `ISA_ST_RF_CS;
+            end
+            // S.x = s = sqrt(disc) - b (0 - b where disc < 0)
+            `ISA_ST_RF_CS: begin
+                op = `ISA_OP_SUB; la_w = T_S; la_a = rfneg_q ? `ISA_REG_ZERO : T_S; la_b = T_Q; wmask = M_X;
+                st_d = `ISA_ST_RF_CST;
+            end
+            // CUR_O = p + s t: the exit point
+            `ISA_ST_RF_CST: begin
+                op = `ISA_OP_MULX; la_w = T_U; la_a = T_R; la_b = T_S;
+                st_d = `ISA_ST_RF_EXIT;
+            end
+            `ISA_ST_RF_EXIT: begin
+                op = `ISA_OP_ADD; la_w = `ISA_REG_CUR_O; la_a = `ISA_REG_CUR_O; la_b = T_U;
+                st_d = `ISA_ST_RF_OSUB;
+            end
+            // N = n' = (exit - c) * 1/r, then Q.x = t.n'
+            `ISA_ST_RF_OSUB: begin
+                op = `ISA_OP_SUB; la_w = T_N; la_a = `ISA_REG_CUR_O; la_b = rf_c;
+                st_d = `ISA_ST_RF_OSCALE;
+            end
+            `ISA_ST_RF_OSCALE: begin
+                op = `ISA_OP_MULY; la_w = T_N; la_a = T_N; la_b = rf_r;
+                st_d   = `ISA_ST_DOT_1;
+                call_d = D_RF_OUT;
+            end
+            // U.x = k' = 1 - ior^2 (1 - cos^2); k' < 0 is taken as 0
+            `ISA_ST_RF_OCOS2: begin
+                op = `ISA_OP_MUL; la_w = T_U; la_a = T_Q; la_b = T_Q; wmask = M_X;
+                st_d = `ISA_ST_RF_OSIN2;
+            end
+            `ISA_ST_RF_OSIN2: begin
+                op = `ISA_OP_SUB; la_w = T_U; la_a = `ISA_REG_ONE; la_b = T_U; wmask = M_X;
+                st_d = `ISA_ST_RF_OIOR1;
+            end
+            `ISA_ST_RF_OIOR1: begin
+                op = `ISA_OP_MULY; la_w = T_U; la_a = T_U; la_b = rf_t; wmask = M_X;
+                st_d = `ISA_ST_RF_OIOR2;
+            end
+            `ISA_ST_RF_OIOR2: begin
+                op = `ISA_OP_MULY; la_w = T_U; la_a = T_U; la_b = rf_t; wmask = M_X;
+                st_d = `ISA_ST_RF_OK;
+            end
+            `ISA_ST_RF_OK: begin
+                op = `ISA_OP_SUB; la_w = T_U; la_a = `ISA_REG_ONE; la_b = T_U; wmask = M_X;
+                rfneg_d = y_neg[0];
+                st_d    = `ISA_ST_RF_OEDN;
+            end
+            // G.x = ior cos (- sqrt(k'))
+            `ISA_ST_RF_OEDN: begin
+                op = `ISA_OP_MULY; la_w = T_G; la_a = T_Q; la_b = rf_t; wmask = M_X;
+                st_d = rfneg_q ? `ISA_ST_RF_OED : `ISA_ST_RF_OSQRT;
+            end
+            `ISA_ST_RF_OSQRT: begin
+                op = `ISA_OP_SQRT; la_w = T_U; la_a = T_U; wmask = M_X;
+                if (alu_done) st_d = `ISA_ST_RF_OCOEF;
+            end
+            `ISA_ST_RF_OCOEF: begin
+                op = `ISA_OP_SUB; la_w = T_G; la_a = T_G; la_b = T_U; wmask = M_X;
+                st_d = `ISA_ST_RF_OED;
+            end
+            // CUR_D = ior t - G.x n'; latch its DirFlags
+            `ISA_ST_RF_OED: begin
+                op = `ISA_OP_MULY; la_w = T_V; la_a = T_R; la_b = rf_t;
+                st_d = `ISA_ST_RF_OCN;
+            end
+            `ISA_ST_RF_OCN: begin
+                op = `ISA_OP_MULX; la_w = T_S; la_a = T_N; la_b = T_G;
+                st_d = `ISA_ST_RF_ODIR;
+            end
+            `ISA_ST_RF_ODIR: begin
+                op = `ISA_OP_SUB; la_w = `ISA_REG_CUR_D; la_a = T_V; la_b = T_S;
+                dsign_d = y_sign;
+                dneg_d  = y_neg;
+                dpos_d  = y_pos;
+                st_d    = `ISA_ST_RF_CHILD_W;
+            end
+            // Total internal reflection: CUR_D = d - 2 (d.n) n from p
+            `ISA_ST_RF_TIR_K: begin
+                op = `ISA_OP_MUL2X; la_w = T_U; la_a = T_N; la_b = T_Q;
+                st_d = `ISA_ST_RF_TIR;
+            end
+            `ISA_ST_RF_TIR: begin
+                op = `ISA_OP_SUB; la_w = `ISA_REG_CUR_D; la_a = `ISA_REG_PAR_D; la_b = T_U;
+                dsign_d = y_sign;
+                dneg_d  = y_neg;
+                dpos_d  = y_pos;
+                st_d    = `ISA_ST_RF_CHILD_W;
+            end
+            // CUR_W = PAR_W * kt, then the child's nearest_hit
+            `ISA_ST_RF_CHILD_W: begin
+                op = `ISA_OP_MULZ; la_w = `ISA_REG_CUR_W; la_a = `ISA_REG_PAR_W; la_b = rf_t;
                 ctx_d   = C_HIT;
                 found_d = 1'b0;
                 {st_d, sp_d, call_d, kind_d, idx_d} = nearest_hit_start;
@@ -1019,13 +1304,17 @@ module pp_ctrl (
             // PAR_COL = PAR_COL + CUR_COL, then the level below
             `ISA_ST_POP_ADD: begin
                 op = `ISA_OP_ADD; la_w = `ISA_REG_PAR_COL; la_a = `ISA_REG_PAR_COL; la_b = `ISA_REG_CUR_COL;
-                {st_d, sp_d} = unwind(sp_q - 1'b1, col_q, pixel_end);
+                if (pend_q[sp_q - 1'b1]) {st_d, sp_d, call_d, kind_d, idx_d} = refract_here;
+                else {st_d, sp_d, call_d, kind_d, idx_d} =
+                         unwind_jump(unwind(sp_q - 1'b1, col_q, pend_q, pidx_q, pixel_end), call_q);
             end
             // PAR_COL = CUR_COL (the parent got no light), then the level below
             `ISA_ST_POP_MOV: begin
                 op = `ISA_OP_MOV; la_w = `ISA_REG_PAR_COL; la_a = `ISA_REG_CUR_COL;
                 col_d[sp_q - 1'b1] = 1'b1;
-                {st_d, sp_d} = unwind(sp_q - 1'b1, col_d, pixel_end);
+                if (pend_q[sp_q - 1'b1]) {st_d, sp_d, call_d, kind_d, idx_d} = refract_here;
+                else {st_d, sp_d, call_d, kind_d, idx_d} =
+                         unwind_jump(unwind(sp_q - 1'b1, col_d, pend_q, pidx_q, pixel_end), call_q);
             end
             // STK0_COL = ZERO: no light reached the pixel
             `ISA_ST_ROOT_BLACK: begin
