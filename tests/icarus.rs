@@ -137,6 +137,36 @@ fn sampled_pixels_of_every_builtin_scene_agree_under_icarus() {
     assert_same(&runs);
 }
 
+/// The documented glass scenes (docs/glass) on the compact processor:
+/// refraction's states mean the same under Icarus.
+#[test]
+fn glass_scenes_agree_under_icarus() {
+    if !icarus_present("glass_scenes_agree_under_icarus") {
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/glass");
+    let runs: Vec<_> = ["glass_room", "bubble", "touching"]
+        .iter()
+        .map(|name| {
+            let scene = Scene::load(&dir.join(format!("{name}.toml")))
+                .expect("a documented scene")
+                .resized(80, 60, "test")
+                .expect("smaller");
+            // Through the glass (x 32..51, y 26..45 of 80x60) and around it.
+            let pixels = (24..48)
+                .step_by(2)
+                .flat_map(|y| (28..56).step_by(2).map(move |x| (x, y)))
+                .collect();
+            Run {
+                name: format!("glass_{name}"),
+                scene,
+                pixels,
+            }
+        })
+        .collect();
+    assert_same(&runs);
+}
+
 #[test]
 #[ignore = "whole reduced frames of every builtin scene under Icarus: minutes"]
 fn every_builtin_scene_agrees_under_icarus() {

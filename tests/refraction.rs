@@ -1,8 +1,8 @@
-//! Refraction at the command line: golden's models (the f64 reference and
-//! the micro-op model) draw a glass sphere, and every command that runs the
-//! RTL, which does not trace refraction yet, refuses the scene by the field
-//! that makes it transparent before it starts (golden/tests/refraction.rs
-//! has the optics).
+//! Refraction at the command line: golden's models and the compact
+//! processor draw a glass sphere (co-simulated exactly), and every command
+//! that would run the fast processor, which does not trace refraction yet,
+//! refuses the scene by the field that makes it transparent before it
+//! starts (golden/tests/refraction.rs has the optics).
 
 mod common;
 
@@ -33,17 +33,23 @@ fn glass_scene() -> PathBuf {
 }
 
 #[test]
-fn golden_draws_a_glass_scene_and_the_rtl_commands_refuse_it_by_name() {
+fn the_compact_processor_traces_a_glass_scene_and_the_fast_one_refuses_it_by_name() {
     let path = glass_scene();
     let scene = path.to_str().expect("utf-8");
-    let why = "sphere[0].transmission = 0.5: the processors trace no refraction yet";
+    // The compact processor co-simulates it exactly.
+    let out = rtcosim(&["cosim", "--scene", scene]);
+    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let stdout = common::text(&out.stdout);
+    assert!(
+        stdout.contains("divergent pixels: 0") && stdout.contains("PASS: "),
+        "{stdout}"
+    );
+    // The fast one, and every command that would run it, refuse it up front.
+    let why = "sphere[0].transmission = 0.5: the fast processor traces no refraction yet";
     assert_refused(
-        &["cosim", "--scene", scene],
+        &["cosim", "--processor", "fast", "--scene", scene],
         &[&format!("--scene {scene}: {why}")],
     );
-    assert_refused(&["cosim", "--processor", "fast", "--scene", scene], &[why]);
-    let png = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass.png");
-    let out_png = png.to_str().expect("utf-8");
     assert_refused(&["tune", "--scene", scene, "--max-error", "1"], &[why]);
     let sweep = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-sweep");
     assert_refused(
@@ -56,20 +62,8 @@ fn golden_draws_a_glass_scene_and_the_rtl_commands_refuse_it_by_name() {
         ],
         &[why],
     );
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-maps");
-    let dir = dir.to_str().expect("utf-8");
-    assert_refused(
-        &[
-            "diffmap",
-            "reference",
-            "rtl",
-            "--scene",
-            scene,
-            "--out",
-            dir,
-        ],
-        &[&format!("side B (rtl): {why}")],
-    );
+    let png = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass.png");
+    let out_png = png.to_str().expect("utf-8");
     for model in ["reference", "micro"] {
         let _ = std::fs::remove_file(&png);
         let out = rtcosim(&[
@@ -78,14 +72,10 @@ fn golden_draws_a_glass_scene_and_the_rtl_commands_refuse_it_by_name() {
         assert_eq!(out.status.code(), Some(0), "{model}: {}", both(&out));
         assert!(png.exists(), "{model}");
     }
-    let out = rtcosim(&[
-        "diffmap",
-        "reference",
-        "micro",
-        "--scene",
-        scene,
-        "--out",
-        dir,
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-maps");
+    let dir = dir.to_str().expect("utf-8");
+    for (a, b) in [("reference", "micro"), ("micro", "rtl")] {
+        let out = rtcosim(&["diffmap", a, b, "--scene", scene, "--out", dir]);
+        assert_eq!(out.status.code(), Some(0), "{a} {b}: {}", both(&out));
+    }
 }

@@ -55,7 +55,7 @@ std::uint32_t bits(const VlWide<W>& v, unsigned lsb, unsigned width) {
 }
 
 constexpr unsigned kStBits = 9;     // ISA_DIM_ST_BITS
-constexpr unsigned kRegBits = 7;    // ISA_DIM_REG_BITS
+constexpr unsigned kRegBits = 8;    // ISA_DIM_REG_BITS
 constexpr unsigned kCoordBits = 12; // ISA_DIM_COORD_BITS
 
 enum class Kind { Compact, FastPp, FastTop };
