@@ -164,6 +164,18 @@ fn every_golden_event_comes_from_where_the_table_says() {
         .map(|&name| (name, reduced(name)))
         .collect();
     scenes.push(("mirror with a cutoff", common::mirror_with_cutoff()));
+    // The refraction scenes (docs/glass), one with a cutoff that refuses
+    // some refracted children (RF_CUT_W, RF_CUT_CMP).
+    for name in ["glass_room", "bubble", "touching"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/glass/{name}.toml"));
+        let scene = Scene::load(&path).expect("a documented glass scene");
+        scenes.push((name, scene.resized(80, 60, "test").expect("smaller")));
+    }
+    let touching = &scenes.last().expect("pushed").1;
+    let mut render = touching.render;
+    render.weight_cutoff = 0.05;
+    let cut = touching.with_render(render, "test").expect("a cutoff");
+    scenes.push(("touching with a cutoff", cut));
     for (name, scene) in &scenes {
         let proc = Processor::new(scene);
         for y in 0..scene.camera.height {
