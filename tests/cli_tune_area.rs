@@ -350,9 +350,13 @@ fn area_measures_the_register_file_with_the_real_yosys() {
     let against = words.iter().position(|&w| w == "against").expect("against");
     let (tuned, full) = (number_at(storage - 1), number_at(against + 1));
     // Registers 0 up to the current ray's (the scene, the constants, the
-    // temporaries; rtl/pp/memory.v's REG_WORDS), then the stack levels.
-    let words =
-        |depth: u32| u64::from(isa::reg::CUR_O) + u64::from(depth) * isa::dim::STK_STRIDE as u64;
+    // temporaries; rtl/pp/memory.v's REG_WORDS), the stack levels, and the
+    // refraction bank (TRN, memory.v's REFRACTION = 1).
+    let words = |depth: u32| {
+        u64::from(isa::reg::CUR_O)
+            + u64::from(depth) * isa::dim::STK_STRIDE as u64
+            + isa::dim::TRN_COUNT as u64
+    };
     assert_eq!((tuned, full), (96 * words(d), 96 * words(8)), "{rf}");
     let scripts = stand.take_scripts();
     assert_eq!(
