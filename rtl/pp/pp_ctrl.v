@@ -487,9 +487,18 @@ module pp_ctrl (
     localparam integer JW = SW + SPW + CALLW + 1 + OW;
     localparam integer J_IDX = 0, J_KIND = OW, J_CALL = OW + 1, J_ST = OW + 1 + CALLW + SPW;
     wire [JW-1:0] stay       = {st_q, sp_q, call_q, kind_q, idx_q};
-    wire [JW-1:0] unwind_now = unwind_jump(unwind(sp_q, col_q, pend_q, pidx_q, pixel_end), call_q);
-    // After a POP at level sp: its parent's refracted child takes the level.
     wire [SPW-1:0] sp_up       = sp_q - 1'b1;
+    // The pending children as they stand after this cycle's SH_CHILD_W,
+    // whose child's search may end (and unwind) in the same cycle.
+    wire               owes_now = (st_q == `ISA_ST_SH_CHILD_W) && refr_q;
+    wire [STK_N-1:0]   pend_now = owes_now ? (pend_q | ({{(STK_N - 1){1'b0}}, 1'b1} << sp_up)) : pend_q;
+    reg  [STK_N*OW-1:0] pidx_now;
+    always @* begin
+        pidx_now = pidx_q;
+        if (owes_now) pidx_now[OW*sp_up +: OW] = obj_idx_q;
+    end
+    wire [JW-1:0] unwind_now = unwind_jump(unwind(sp_q, col_q, pend_now, pidx_now, pixel_end), call_q);
+    // After a POP at level sp: its parent's refracted child takes the level.
     wire [JW-1:0] refract_here = {ST_RF_NSUB, sp_q, call_q, K_SPH, pidx_q[OW*sp_up +: OW]};
     // The end of shading: the refracted child at once if it is the only one
     // (sp is already its level), else the unwinding.
