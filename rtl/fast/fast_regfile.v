@@ -59,13 +59,17 @@ module fast_regfile #(
     localparam [RB-1:0] T0       = `ISA_REG_T0;
     localparam [RB-1:0] TEMP_END = `ISA_REG_CUR_O;
     localparam [RB-1:0] STK0_O   = `ISA_REG_STK0_O;
-    localparam [RB:0]   STK_END  = STK_END_I[RB:0];  // one bit more: 128 ends the space
+    localparam [RB:0]   STK_END  = STK_END_I[RB:0];  // one bit wider than an address
+    localparam integer  TRN_END_I = `ISA_REG_TRN0 + `ISA_DIM_TRN_COUNT * `ISA_DIM_TRN_STRIDE;
+    localparam [RB-1:0] TRN0     = `ISA_REG_TRN0;
+    localparam [RB:0]   TRN_END  = TRN_END_I[RB:0];
 
-    // Which table an address is in.
+    // Which table an address is in: the scene's registers (the refraction
+    // bank TRN0..7 among them, scene constants too) or a context's.
     localparam [1:0] T_NONE = 2'd0, T_SCENE = 2'd1, T_CTX = 2'd2;
 
     function [1:0] table_of(input [RB-1:0] addr);
-        if (addr < T0)
+        if (addr < T0 || (addr >= TRN0 && {1'b0, addr} < TRN_END))
             table_of = T_SCENE;
         else if (addr < TEMP_END || (addr >= STK0_O && {1'b0, addr} < STK_END))
             table_of = T_CTX;

@@ -3,8 +3,8 @@
 // ============================================================================
 // fast_regfile_tb -- rtl/fast/fast_regfile.v against a model of its contract
 // ============================================================================
-// The model: one array per context of the 128 addresses and one scene
-// array, as the header of fast_regfile.v says them (scene below ISA_REG_T0,
+// The model: one array per context of the 256 addresses and one scene
+// array, as the header of fast_regfile.v says them (scene below ISA_REG_T0 and TRN0..7,
 // the temporaries and stack levels below STACK_DEPTH per context, +0
 // elsewhere, write-port writes outside a context's words dropped). Every
 // word is written first (scene port, then each context's words through the
@@ -40,11 +40,13 @@ module fast_regfile_tb;
     `include "tb_clock.vh"
 
     // The model.
-    reg [95:0] scene_m [0:127];
-    reg [95:0] ctx_m   [0:CTXS*128-1];
+    localparam integer NA      = 1 << `ISA_DIM_REG_BITS;
+    localparam integer TRN_END = `ISA_REG_TRN0 + `ISA_DIM_TRN_COUNT * `ISA_DIM_TRN_STRIDE;
+    reg [95:0] scene_m [0:NA-1];
+    reg [95:0] ctx_m   [0:CTXS*NA-1];
 
     function is_scene(input integer a);
-        is_scene = a < `ISA_REG_T0;
+        is_scene = a < `ISA_REG_T0 || (a >= `ISA_REG_TRN0 && a < TRN_END);
     endfunction
     function is_ctx(input integer a);
         is_ctx = (a >= `ISA_REG_T0 && a < `ISA_REG_CUR_O) || (a >= `ISA_REG_STK0_O && a < STK_END);
@@ -52,19 +54,21 @@ module fast_regfile_tb;
 
     function [95:0] model_read(input integer ctx, input integer a);
         if (is_scene(a))    model_read = scene_m[a];
-        else if (is_ctx(a)) model_read = ctx_m[ctx * 128 + a];
+        else if (is_ctx(a)) model_read = ctx_m[ctx * NA + a];
         else                model_read = 96'd0;
     endfunction
 
     // An address: anywhere, or at a table's edge.
     function integer pick_addr(input integer r, input integer s);
-        integer edges [0:9];
+        integer edges [0:13];
         begin
             edges[0] = 0; edges[1] = `ISA_REG_T0 - 1; edges[2] = `ISA_REG_T0;
             edges[3] = `ISA_REG_CUR_O - 1; edges[4] = `ISA_REG_CUR_O;
             edges[5] = `ISA_REG_STK0_O - 1; edges[6] = `ISA_REG_STK0_O;
-            edges[7] = STK_END - 1; edges[8] = STK_END % 128; edges[9] = 127;
-            pick_addr = (r % 2 == 0) ? edges[s % 10] : s % 128;
+            edges[7] = STK_END - 1; edges[8] = STK_END % NA; edges[9] = NA - 1;
+            edges[10] = `ISA_REG_TRN0 - 1; edges[11] = `ISA_REG_TRN0;
+            edges[12] = TRN_END - 1; edges[13] = TRN_END;
+            pick_addr = (r % 2 == 0) ? edges[s % 14] : s % NA;
         end
     endfunction
 
@@ -92,7 +96,7 @@ module fast_regfile_tb;
         mismatches = 0;
         for (i = 0; i < 3; i = i + 1) chk[i] = 1'b0;
         // Every scene word, then every context word.
-        for (a = 0; a < 128; a = a + 1) begin
+        for (a = 0; a < NA; a = a + 1) begin
             fall;
             word = {$random(seed), $random(seed), $random(seed)};
             swe = 1'b1; swa = a; swd = word;
@@ -101,11 +105,11 @@ module fast_regfile_tb;
         end
         swe = 1'b0;
         for (c = 0; c < CTXS; c = c + 1) begin
-            for (a = 0; a < 128; a = a + 1) begin
+            for (a = 0; a < NA; a = a + 1) begin
                 fall;
                 word = {$random(seed), $random(seed), $random(seed)};
                 we = 1'b1; w_ctx = c; wa = a; wmask = 3'b111; wd = word;
-                ctx_m[c * 128 + a] = is_ctx(a) ? word : 96'd0;
+                ctx_m[c * NA + a] = is_ctx(a) ? word : 96'd0;
                 rise;
             end
         end
@@ -134,10 +138,10 @@ module fast_regfile_tb;
                 exp_b[0] = model_read(r_ctx, ra_b);
                 chk[0]   = 1'b1;
                 if (we && is_ctx(wa)) begin
-                    word = ctx_m[w_ctx * 128 + wa];
+                    word = ctx_m[w_ctx * NA + wa];
                     for (i = 0; i < 3; i = i + 1)
                         if (wmask[i]) word[32*i +: 32] = wd[32*i +: 32];
-                    ctx_m[w_ctx * 128 + wa] = word;
+                    ctx_m[w_ctx * NA + wa] = word;
                 end
                 if (swe) scene_m[swa] = swd;
             end else begin
