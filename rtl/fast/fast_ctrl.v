@@ -110,7 +110,7 @@ module fast_ctrl #(
     localparam integer NSW    = `ISA_DIM_CFG_SPHERES_BITS;
     localparam integer NPW    = `ISA_DIM_CFG_PLANES_BITS;
     localparam integer DW     = `ISA_DIM_CFG_DEPTH_BITS;
-    localparam integer CALLW  = 3;
+    localparam integer CALLW  = 4;
 
     // Positions of the ring (see the header).
     localparam integer POS_C1 = LATENCY + 2;
@@ -119,8 +119,12 @@ module fast_ctrl #(
 
     localparam       K_SPH = 1'b0, K_PLN = 1'b1;
     localparam       C_HIT = 1'b0, C_SHD = 1'b1;
-    localparam [CALLW-1:0] D_PRIMARY  = 3'd0, D_LIGHT    = 3'd1, D_SPHERE   = 3'd2,
-                           D_DIFFUSE  = 3'd3, D_REFLECT  = 3'd4, D_SPECULAR = 3'd5;
+    localparam [CALLW-1:0] D_PRIMARY  = 4'd0, D_LIGHT    = 4'd1, D_SPHERE   = 4'd2,
+                           D_DIFFUSE  = 4'd3, D_REFLECT  = 4'd4, D_SPECULAR = 4'd5;
+    // refract's three dot() calls (pp_ctrl's D_RF_*), not issued yet: the
+    // fast processor traces no refraction (harness::design::processor).
+    localparam [CALLW-1:0] D_RF_IN = 4'd6, D_RF_CHORD = 4'd7, D_RF_OUT = 4'd8;
+    wire unused_rf_calls = ^{D_RF_IN, D_RF_CHORD, D_RF_OUT};
     localparam [1:0] S_DIFFUSE = 2'd0, S_REFLECT = 2'd1, S_SPECULAR = 2'd2, S_LOCAL = 2'd3;
     localparam integer MAT_DIFFUSE = 0, MAT_SPECULAR = 1, MAT_REFLECTIVE = 2;
 
@@ -165,7 +169,14 @@ module fast_ctrl #(
     localparam integer S_DSIGN = S_COL + STK_N;
     localparam integer S_DNEG  = S_DSIGN + LN;
     localparam integer S_DPOS  = S_DNEG + LN;
-    localparam integer SWD     = S_DPOS + LN;
+    // Refraction (pp_ctrl's refr_q, rcut_q, rfneg_q, pend_q, pidx_q): kept
+    // at 0 until the ring traces it.
+    localparam integer S_REFR  = S_DPOS + LN;
+    localparam integer S_RCUT  = S_REFR + 1;
+    localparam integer S_RFNEG = S_RCUT + 1;
+    localparam integer S_PEND  = S_RFNEG + 1;
+    localparam integer S_PIDX  = S_PEND + STK_N;
+    localparam integer SWD     = S_PIDX + STK_N * OW;
 
     // A micro-op: {op, a, b, w, wmask}.
     localparam integer U_MASK = 0;
