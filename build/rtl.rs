@@ -31,6 +31,21 @@ pub(crate) fn read_methods(path: &Path) -> Result<Vec<(String, u32)>, String> {
     Ok(methods)
 }
 
+/// The value of `` `define ISA_DIM_<name> <n> `` in the ISA header `path`.
+pub(crate) fn read_dim(path: &Path, name: &str) -> Result<u32, String> {
+    let text = fs::read_to_string(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let key = format!("ISA_DIM_{name}");
+    text.lines()
+        .find_map(|line| {
+            let mut words = line.split_whitespace();
+            match (words.next(), words.next(), words.next()) {
+                (Some("`define"), Some(k), Some(v)) if k == key => v.parse().ok(),
+                _ => None,
+            }
+        })
+        .ok_or_else(|| format!("{} defines no numeric `{key}`", path.display()))
+}
+
 /// Every `*.v` of `dirs`, sorted within each directory.
 /// Writes `$OUT_DIR/rtl_state_lines.rs`: for each controller, the line of
 /// every item of its `case` on the state (pp_ctrl's `case (st_q)`, the fast

@@ -48,7 +48,7 @@ void write_scene_port(M& m, bool cfg, std::uint8_t addr, std::uint32_t x, std::u
     m.eval();
     m.scene_we = 0;
     m.scene_cfg = 0;
-    m.scene_addr = static_cast<std::uint8_t>(~addr & 0xFF);  // ISA_DIM_REG_BITS = 8
+    m.scene_addr = static_cast<std::uint8_t>(~addr);  // 8-bit addresses (pixel_proc.cpp checks)
     m.scene_data[0] = ~x;
     m.scene_data[1] = ~y;
     m.scene_data[2] = ~z;

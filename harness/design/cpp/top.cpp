@@ -55,7 +55,7 @@ std::uint32_t bits(const VlWide<W>& v, unsigned lsb, unsigned width) {
 }
 
 constexpr unsigned kStBits = 9;     // ISA_DIM_ST_BITS
-constexpr unsigned kRegBits = 8;    // ISA_DIM_REG_BITS
+constexpr unsigned kRegBits = RTCOSIM_ISA_REG_BITS;  // rtcosim_models.h, from isa.vh
 constexpr unsigned kCoordBits = 12; // ISA_DIM_COORD_BITS
 
 enum class Kind { Compact, FastPp, FastTop };
