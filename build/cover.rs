@@ -143,33 +143,41 @@ pub(crate) fn write_cover_module(
 }
 
 /// The text of the transition table `table`, refused if it was made from
-/// another controller than today's (its `# <file> fnv1a64 <hash>` line).
+/// another controller than today's: each of its `# <file> fnv1a64 <hash>`
+/// lines (the controller, and the include both controllers share) names a
+/// file of rtl/pp or rtl/fast as it is now.
 fn current_table(manifest: &Path, table: &str) -> Result<String, String> {
     let text_of =
         fs::read_to_string(manifest.join(table)).map_err(|e| format!("reading {table}: {e}"))?;
-    // The controller the table was made from: `# <file> fnv1a64 <hash>`.
-    let (file, recorded) = text_of
+    let recorded: Vec<(&str, &str)> = text_of
         .lines()
-        .find_map(|l| {
+        .filter_map(|l| {
             let mut w = l.strip_prefix("# ")?.split_whitespace();
-            match (w.next(), w.next(), w.next()) {
-                (Some(f), Some("fnv1a64"), Some(h)) => Some((f.to_string(), h.to_string())),
+            match (w.next(), w.next(), w.next(), w.next()) {
+                (Some(f), Some("fnv1a64"), Some(h), None) => Some((f, h)),
                 _ => None,
             }
         })
-        .ok_or_else(|| format!("{table} names no controller (`# <file> fnv1a64 <hash>`)"))?;
-    let controller = ["rtl/pp", "rtl/fast"]
-        .iter()
-        .map(|d| manifest.join(d).join(&file))
-        .find(|p| p.exists())
-        .ok_or_else(|| format!("{table} was made from {file}, which rtl/ lacks"))?;
-    let hash = fnv1a64(&controller)?;
-    if recorded != hash {
+        .collect();
+    if recorded.is_empty() {
         return Err(format!(
-            "{table} was made from another {file} (fnv1a64 now {hash}): re-derive it \
-             (rtl/cover/transitions.sh for pp_ctrl.transitions, needs yosys; the \
-             table's header for the others) and commit the new table"
+            "{table} names no controller (`# <file> fnv1a64 <hash>`)"
         ));
+    }
+    for (file, recorded) in recorded {
+        let source = ["rtl/pp", "rtl/fast"]
+            .iter()
+            .map(|d| manifest.join(d).join(file))
+            .find(|p| p.exists())
+            .ok_or_else(|| format!("{table} was made from {file}, which rtl/ lacks"))?;
+        let hash = fnv1a64(&source)?;
+        if recorded != hash {
+            return Err(format!(
+                "{table} was made from another {file} (fnv1a64 now {hash}): re-derive it \
+                 (rtl/cover/transitions.sh for pp_ctrl.transitions, needs yosys; the \
+                 table's header for the others) and commit the new table"
+            ));
+        }
     }
     Ok(text_of)
 }

@@ -1,12 +1,10 @@
-//! Refraction at the command line: golden's models and the compact
-//! processor draw a glass sphere (co-simulated exactly), and every command
-//! that would run the fast processor, which does not trace refraction yet,
-//! refuses the scene by the field that makes it transparent before it
-//! starts (golden/tests/refraction.rs has the optics).
+//! Refraction at the command line and on random glass scenes: golden's
+//! models draw a glass sphere, and both processors trace it, co-simulated
+//! exactly (golden/tests/refraction.rs has the optics).
 
 mod common;
 
-use common::{assert_refused, both, rtcosim};
+use common::{both, rtcosim};
 use std::path::PathBuf;
 
 /// The reference scene at 40x30 with its first sphere made of glass, as a
@@ -33,35 +31,18 @@ fn glass_scene() -> PathBuf {
 }
 
 #[test]
-fn the_compact_processor_traces_a_glass_scene_and_the_fast_one_refuses_it_by_name() {
+fn both_processors_trace_a_glass_scene_and_every_tool_draws_it() {
     let path = glass_scene();
     let scene = path.to_str().expect("utf-8");
-    // The compact processor co-simulates it exactly.
-    let out = rtcosim(&["cosim", "--scene", scene]);
-    assert_eq!(out.status.code(), Some(0), "{}", both(&out));
-    let stdout = common::text(&out.stdout);
-    assert!(
-        stdout.contains("divergent pixels: 0") && stdout.contains("PASS: "),
-        "{stdout}"
-    );
-    // The fast one, and every command that would run it, refuse it up front.
-    let why = "sphere[0].transmission = 0.5: the fast processor traces no refraction yet";
-    assert_refused(
-        &["cosim", "--processor", "fast", "--scene", scene],
-        &[&format!("--scene {scene}: {why}")],
-    );
-    assert_refused(&["tune", "--scene", scene, "--max-error", "1"], &[why]);
-    let sweep = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass-sweep");
-    assert_refused(
-        &[
-            "sweep",
-            "--scene",
-            scene,
-            "--out",
-            sweep.to_str().expect("utf-8"),
-        ],
-        &[why],
-    );
+    for processor in ["compact", "fast"] {
+        let out = rtcosim(&["cosim", "--processor", processor, "--scene", scene]);
+        assert_eq!(out.status.code(), Some(0), "{processor}: {}", both(&out));
+        let stdout = common::text(&out.stdout);
+        assert!(
+            stdout.contains("divergent pixels: 0") && stdout.contains("PASS: "),
+            "{processor}: {stdout}"
+        );
+    }
     let png = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("glass.png");
     let out_png = png.to_str().expect("utf-8");
     for model in ["reference", "micro"] {
@@ -82,11 +63,11 @@ fn the_compact_processor_traces_a_glass_scene_and_the_fast_one_refuses_it_by_nam
 
 /// Seeded random glass scenes, drawn where refraction is delicate (indices
 /// near 1, below 1 near total internal reflection, up to 4; glass anywhere
-/// in front of the camera, touching or apart), co-simulated on the compact
-/// processor: each accepted one agrees with the micro-op model on every
+/// in front of the camera, touching or apart), co-simulated on both
+/// processors: each accepted one agrees with the micro-op model on every
 /// event, colour and cycle; the refused ones are refused by name.
 #[test]
-fn random_glass_scenes_co_simulate_exactly_on_the_compact_processor() {
+fn random_glass_scenes_co_simulate_exactly_on_both_processors() {
     use golden::scene::{Camera, Light, Material, RenderSettings, Scene, Sphere};
     use golden::window::Window;
     use rand::{Rng, SeedableRng};
@@ -96,7 +77,7 @@ fn random_glass_scenes_co_simulate_exactly_on_the_compact_processor() {
 
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(43);
     let (mut accepted, mut refused, mut tir) = (0, 0, 0);
-    for case in 0..40 {
+    for case in 0..100 {
         let mut spheres = Vec::new();
         for _ in 0..rng.random_range(1..=4) {
             let mut m = Material::opaque(
@@ -176,19 +157,25 @@ fn random_glass_scenes_co_simulate_exactly_on_the_compact_processor() {
             }
         };
         accepted += 1;
-        let design = Design::for_scene(ProcessorKind::Compact, &scene);
-        let report = cosim::run(
-            &design,
-            &scene,
-            Window::full(&scene),
-            &CosimOptions::default(),
-            &|_| {},
-        )
-        .unwrap_or_else(|e| panic!("case {case}: {e}"));
-        assert!(report.passed(), "case {case}:\n{}", scene.to_toml());
+        for kind in ProcessorKind::ALL {
+            let design = Design::for_scene(kind, &scene);
+            let report = cosim::run(
+                &design,
+                &scene,
+                Window::full(&scene),
+                &CosimOptions::default(),
+                &|_| {},
+            )
+            .unwrap_or_else(|e| panic!("case {case}, {kind:?}: {e}"));
+            assert!(
+                report.passed(),
+                "case {case}, {kind:?}:\n{}",
+                scene.to_toml()
+            );
+        }
     }
     assert!(
-        accepted >= 20 && refused > 0 && tir > 0,
+        accepted >= 50 && refused > 0 && tir > 0,
         "{accepted} accepted, {refused} refused, {tir} below 1"
     );
 }

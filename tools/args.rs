@@ -9,7 +9,6 @@ use golden::window::Window;
 use rtcosim::campaign::shard::Shard;
 use rtcosim::campaign::sweep::ConfirmOptions;
 use rtcosim::check::cosim::CosimOptions;
-use rtcosim::design::processor::ProcessorKind;
 use rtcosim::design::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
 use rtcosim::scenes::{self, Overrides};
 use std::path::Path;
@@ -44,24 +43,6 @@ impl SceneArgs {
         };
         Ok(scenes::load_with(&self.scene, overrides)?)
     }
-}
-
-/// Refuses a scene one of `processors` (none: every processor) cannot
-/// trace ([`rtcosim::design::untraceable`]), naming it as `label`.
-pub fn traceable(label: &str, scene: &Scene, processors: &[ProcessorKind]) -> Result<()> {
-    let all = ProcessorKind::ALL;
-    let kinds = if processors.is_empty() {
-        &all[..]
-    } else {
-        processors
-    };
-    for kind in kinds {
-        let row = kind.row();
-        if let Some(why) = rtcosim::design::untraceable(scene, row.refraction, row.name) {
-            anyhow::bail!("{label}: {why}");
-        }
-    }
-    Ok(())
 }
 
 /// Worker threads.

@@ -2,8 +2,8 @@
 //! them, `--procs`) against golden::micro.
 
 use crate::args::{
-    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, traceable,
-    CoverageArgs, SceneArgs, ThreadsArgs,
+    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, CoverageArgs,
+    SceneArgs, ThreadsArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::{bail, Context, Result};
@@ -171,11 +171,6 @@ impl CosimArgs {
 /// Returns whether the RTL agreed with golden everywhere.
 pub fn run(args: CosimArgs) -> Result<bool> {
     let scene = args.scene.load()?;
-    traceable(
-        &format!("--scene {}", args.scene.scene),
-        &scene,
-        &[args.processor],
-    )?;
     let window = args.window.unwrap_or(Window::full(&scene));
     check_window("--window", window, &scene)?;
     let trace_window = args.trace_window.unwrap_or(window);

@@ -3,7 +3,7 @@
 //! (section 4.11). A and B are each a frame file or a model rendered here;
 //! the maps and the table are `golden::diffmap`'s.
 
-use crate::args::{check_parent_dir, traceable, MethodArg, SceneArgs, ThreadsArgs};
+use crate::args::{check_parent_dir, MethodArg, SceneArgs, ThreadsArgs};
 use crate::render::Model;
 use crate::ui::progress_bar;
 use anyhow::{bail, Context, Result};
@@ -199,10 +199,6 @@ impl Side<'_> {
                 args.recip = self.recip.or(args.recip);
                 args.sqrt = self.sqrt.or(args.sqrt);
                 let scene = args.load()?;
-                if *renderer == Renderer::Rtl {
-                    let label = format!("side {} ({})", self.name, renderer.name());
-                    traceable(&label, &scene, &[ProcessorKind::default()])?;
-                }
                 Ok(Input::Model(*renderer, Box::new(scene)))
             }
             Source::File(path) => {

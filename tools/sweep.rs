@@ -1,8 +1,6 @@
 //! `rtcosim sweep`: speed against accuracy over the grid of configurations.
 
-use crate::args::{
-    parse_cutoff, parse_size, traceable, RtlCheckArgs, ShardArgs, Size, ThreadsArgs,
-};
+use crate::args::{parse_cutoff, parse_size, RtlCheckArgs, ShardArgs, Size, ThreadsArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::scene::{Scene, MAX_DEPTH};
@@ -87,11 +85,6 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         .iter()
         .map(|n| {
             let scene = scenes::load_with(n, overrides).with_context(|| format!("--scene {n}"))?;
-            traceable(
-                &format!("--scene {n}"),
-                &scene,
-                &args.processor.map(|p| vec![p]).unwrap_or_default(),
-            )?;
             Ok(NamedScene {
                 name: n.clone(),
                 toml: scene.to_toml(),

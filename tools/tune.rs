@@ -3,7 +3,7 @@
 //! runs on co-simulated before it is recommended, and with --area the
 //! register file it needs against the full build's.
 
-use crate::args::{traceable, RtlCheckArgs, SceneArgs, ThreadsArgs};
+use crate::args::{RtlCheckArgs, SceneArgs, ThreadsArgs};
 use crate::ui::{progress_bar, progress_spinner};
 use anyhow::{Context, Result};
 use golden::fp::Method;
@@ -98,11 +98,6 @@ pub fn run(args: TuneArgs) -> Result<bool> {
     let scene = args.scene.load()?;
     let pool = args.threads.pool()?;
     let processors: Vec<ProcessorKind> = args.processor.into_iter().collect();
-    traceable(
-        &format!("--scene {}", args.scene.scene),
-        &scene,
-        &processors,
-    )?;
     // The pick is co-simulated before it is recommended: any pick's model.
     rtcosim::campaign::sweep::check_rtl_models(
         &tune::grid(&scene, &processors).configs(),

@@ -45,9 +45,6 @@ pub enum PpError {
         /// The scene's exposure, as bits (the error is `Eq`).
         exposure_bits: u32,
     },
-    /// A scene the processor cannot trace ([`untraceable`]).
-    #[error("{0}")]
-    Untraceable(String),
     /// A pixel before any scene was loaded.
     #[error("no scene is loaded into the pixel processor")]
     NoScene,
@@ -154,36 +151,9 @@ impl std::fmt::Display for ProcessorId {
     }
 }
 
-/// What of `scene` a processor that traces no refraction (its row's
-/// `refraction`) cannot draw, named by the field that asks for it: the
-/// first transparent sphere. `None` for every other valid scene.
-pub fn untraceable(scene: &Scene, refraction: bool, processor: &str) -> Option<String> {
-    if refraction {
-        return None;
-    }
-    let i = scene
-        .spheres
-        .iter()
-        .position(|s| s.material.transparent())?;
-    Some(format!(
-        "sphere[{i}].transmission = {}: the {processor} processor traces no refraction yet \
-         (the compact one does, and golden's models: `render --model reference` or `--model micro`)",
-        scene.spheres[i].material.transmission
-    ))
-}
-
-/// Refuses `scene` unless the processor (`processor`, whether it traces
-/// refraction) can trace it and it uses the float methods a model was
-/// verilated with.
-pub(crate) fn check_scene(
-    scene: &Scene,
-    (processor, refraction): (&str, bool),
-    recip: Method,
-    sqrt: Method,
-) -> Result<(), PpError> {
-    if let Some(why) = untraceable(scene, refraction, processor) {
-        return Err(PpError::Untraceable(why));
-    }
+/// Refuses `scene` unless it uses the float methods a model was verilated
+/// with.
+pub(crate) fn check_scene(scene: &Scene, recip: Method, sqrt: Method) -> Result<(), PpError> {
     let r = &scene.render;
     if (r.recip, r.sqrt) != (recip, sqrt) {
         return Err(PpError::MethodMismatch {

@@ -38,8 +38,8 @@ pub mod top;
 
 pub use dut::Dut;
 pub use error::{
-    parse_number, scene_port_writes, untraceable, Fault, HangKind, PpError, ProcessorId,
-    SlotLayout, DEFAULT_TIMEOUT_CYCLES,
+    parse_number, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
+    DEFAULT_TIMEOUT_CYCLES,
 };
 pub use models::Flavour;
 pub use spec::Design;

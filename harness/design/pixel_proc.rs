@@ -57,8 +57,6 @@ struct Loaded {
 pub struct PixelProcessor {
     recip: Method,
     sqrt: Method,
-    /// The processor's name and whether it traces refraction (its row).
-    traces: (&'static str, bool),
     inner: UniquePtr<ffi::PixelProc>,
     scene: Option<Loaded>,
     fault: Option<Fault>,
@@ -84,7 +82,6 @@ impl PixelProcessor {
         Ok(PixelProcessor {
             recip: design.recip,
             sqrt: design.sqrt,
-            traces: (design.row().name, design.row().refraction),
             inner,
             scene: None,
             fault: None,
@@ -144,7 +141,7 @@ impl PixelProcessor {
     /// Resets the model and loads `scene` through the scene port. Refuses a
     /// scene whose recip/sqrt methods are not the model's.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), PpError> {
-        check_scene(scene, self.traces, self.recip, self.sqrt)?;
+        check_scene(scene, self.recip, self.sqrt)?;
         self.reset()?;
         self.poisoned = true;
         for (cfg, addr, [x, y, z]) in scene_port_writes(scene) {

@@ -141,8 +141,6 @@ pub struct Processor {
     pub max_procs: u32,
     /// Whether it has a build without its exponential (`EXPOSURE = 0`).
     pub exp_optional: bool,
-    /// Whether it traces refraction (the `RF_*` states of `rtl/pp/isa.vh`).
-    pub refraction: bool,
     pub cycle_rule: CycleRule,
     /// Its controller, and the line of each state's item in its `case` on
     /// the state (read by the build): trace-diff's line map.
@@ -204,7 +202,6 @@ pub const PROCESSORS: [Processor; 2] = [
         alone: Driver::OnePixel,
         max_procs: 8,
         exp_optional: false,
-        refraction: true,
         cycle_rule: CycleRule::Micro,
         controller: "rtl/pp/pp_ctrl.v",
         state_lines: PP_CTRL_STATE_LINES,
@@ -255,7 +252,6 @@ pub const PROCESSORS: [Processor; 2] = [
         alone: Driver::Streams,
         max_procs: 64,
         exp_optional: true,
-        refraction: false,
         // One cycle into the coordinate queue, two of the register file's
         // read, one into the result queue.
         cycle_rule: CycleRule::Barrel {

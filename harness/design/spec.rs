@@ -176,13 +176,6 @@ impl Design {
             .then(|| format!("the {} processor always has its exponential", row.name))
     }
 
-    /// What of `scene` this design cannot trace (refraction, on a processor
-    /// without it): [`crate::design::untraceable`].
-    pub fn untraceable(&self, scene: &Scene) -> Option<String> {
-        let row = self.row();
-        crate::design::error::untraceable(scene, row.refraction, row.name)
-    }
-
     /// Refuses a design no build makes ([`Design::refusal`]), or one this
     /// build did not make, naming the cargo features that make it.
     pub fn check(&self) -> Result<(), PpError> {

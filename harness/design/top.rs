@@ -133,8 +133,6 @@ pub struct Top {
     layout: SlotLayout,
     recip: Method,
     sqrt: Method,
-    /// The processor's name and whether it traces refraction (its row).
-    traces: (&'static str, bool),
     /// Whether the processors have their exponential (`EXPOSURE = 1`).
     exp_unit: bool,
     inner: UniquePtr<ffi::TopSim>,
@@ -169,7 +167,6 @@ impl Top {
             layout: design.slot_layout(),
             recip: design.recip,
             sqrt: design.sqrt,
-            traces: (design.row().name, design.row().refraction),
             exp_unit: design.exp_unit,
             inner,
             scene: None,
@@ -255,7 +252,7 @@ impl Top {
     /// Refuses `scene` unless the model can draw it: its float methods,
     /// and an exponential if it sets an exposure.
     fn check_scene(&self, scene: &Scene) -> Result<(), PpError> {
-        check_scene(scene, self.traces, self.recip, self.sqrt)?;
+        check_scene(scene, self.recip, self.sqrt)?;
         match scene.render.exposure {
             Some(exposure) if !self.exp_unit => Err(PpError::NoExpUnit {
                 exposure_bits: exposure.to_bits(),

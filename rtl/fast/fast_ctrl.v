@@ -121,10 +121,8 @@ module fast_ctrl #(
     localparam       C_HIT = 1'b0, C_SHD = 1'b1;
     localparam [CALLW-1:0] D_PRIMARY  = 4'd0, D_LIGHT    = 4'd1, D_SPHERE   = 4'd2,
                            D_DIFFUSE  = 4'd3, D_REFLECT  = 4'd4, D_SPECULAR = 4'd5;
-    // refract's three dot() calls (pp_ctrl's D_RF_*), not issued yet: the
-    // fast processor traces no refraction (harness::design::processor).
+    // refract's three dot() calls: d.n, the chord's b = v.t, t.n'.
     localparam [CALLW-1:0] D_RF_IN = 4'd6, D_RF_CHORD = 4'd7, D_RF_OUT = 4'd8;
-    wire unused_rf_calls = ^{D_RF_IN, D_RF_CHORD, D_RF_OUT};
     localparam [1:0] S_DIFFUSE = 2'd0, S_REFLECT = 2'd1, S_SPECULAR = 2'd2, S_LOCAL = 2'd3;
     localparam integer MAT_DIFFUSE = 0, MAT_SPECULAR = 1, MAT_REFLECTIVE = 2;
 
@@ -169,14 +167,23 @@ module fast_ctrl #(
     localparam integer S_DSIGN = S_COL + STK_N;
     localparam integer S_DNEG  = S_DSIGN + LN;
     localparam integer S_DPOS  = S_DNEG + LN;
-    // Refraction (pp_ctrl's refr_q, rcut_q, rfneg_q, pend_q, pidx_q): kept
-    // at 0 until the ring traces it.
+    // Refraction (pp_ctrl's refr_q, rcut_q, rfneg_q, pend_q, pidx_q): the
+    // shaded hit spawns a refracted child; the cutoff refused it; the
+    // chord's disc or the exit's k' is < 0; per level, a refracted child
+    // owed after the reflected subtree, and its sphere.
     localparam integer S_REFR  = S_DPOS + LN;
     localparam integer S_RCUT  = S_REFR + 1;
     localparam integer S_RFNEG = S_RCUT + 1;
     localparam integer S_PEND  = S_RFNEG + 1;
     localparam integer S_PIDX  = S_PEND + STK_N;
     localparam integer SWD     = S_PIDX + STK_N * OW;
+
+    // An unwinding's jump, {st, sp, kind, idx} (the call stays).
+    localparam integer UJ_IDX  = 0;
+    localparam integer UJ_KIND = UJ_IDX + OW;
+    localparam integer UJ_SP   = UJ_KIND + 1;
+    localparam integer UJ_ST   = UJ_SP + SPW;
+    localparam integer UJW     = UJ_ST + SW;
 
     // A micro-op: {op, a, b, w, wmask}.
     localparam integer U_MASK = 0;
@@ -213,19 +220,15 @@ module fast_ctrl #(
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
     wire [PLN_N*AB-1:0]  pln_axis  = cfg[`ISA_DIM_CFG_PLN_AXIS_LSB +: PLN_N*AB];
     wire [PLN_N-1:0]     pln_neg   = cfg[`ISA_DIM_CFG_PLN_NEG_LSB +: PLN_N];
+    wire [SPH_N-1:0]     sph_trn   = cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
-                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_EXPOSURE_LSB + 1],
+                        cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_TRN_LSB + SPH_N],
                         cfg[`ISA_DIM_CFG_DEPTH_LSB - 1:`ISA_DIM_CFG_PLANES_LSB + NPW]};
 
     wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
 
-    // ------------------------------------------------------------------------
-    // Pure functions of the control flow (pp_ctrl's, argument for argument)
-    // ------------------------------------------------------------------------
-    function [MB-1:0] bits(input kind, input [OW-1:0] idx, input [SPH_N*MB-1:0] sph,
-                           input [PLN_N*MB-1:0] pln);
-        bits = kind == K_SPH ? sph[MB*idx +: MB] : pln[MB*idx +: MB];
-    endfunction
+    // bits, shade_next, nearest_hit_next, primary_ray_next (pp_ctrl's: one text).
+    `include "ctrl_flow.vh"
 
     // Bit k set for every object k > i: the loops' next candidates (a
     // thermometer: each bit a function of i, no comparator).
@@ -286,9 +289,9 @@ module fast_ctrl #(
         below_level = l - 1'b1;
     endfunction
 
-    // unwind (pp_ctrl), in three steps. m: the coloured levels at or below
-    // `from`. The highest of levels 1.. in m, one-hot and as a number (0:
-    // none).
+    // unwind (pp_ctrl), in three steps. m: the levels at or below `from`
+    // that are coloured or whose parent owes a refracted child. The highest
+    // of levels 1.. in m, one-hot and as a number (0: none).
     function [STK_N-1:0] highest(input [STK_N-1:0] m);
         integer l;
         begin
@@ -305,93 +308,39 @@ module fast_ctrl #(
                 if (m[l]) highest_level = l[SPW-1:0];
         end
     endfunction
-    // Then {st, sp}: one POP per level down to 1 (POP_ADD where the level
-    // below has a colour), then `last`, or ROOT_BLACK if level 0 has none.
-    function [SW+SPW-1:0] unwound(input [STK_N-1:0] h, input [SPW-1:0] lvl, input [STK_N-1:0] col,
-                                  input [SW-1:0] last);
+    // Then {st, sp, kind, idx}: at a coloured level, its POP (POP_ADD where
+    // the level below has a colour); at another, the refracted child its
+    // parent owes (RF_NSUB on the sphere in pidx); with none, `last`, or
+    // ROOT_BLACK if level 0 has no colour. col: the levels whose colour a
+    // POP may take. With `rf` (the shaded hit's own refracted child is
+    // next), RF_NSUB at `here` on sphere `obj` instead.
+    function [UJW-1:0] unwound(input [STK_N-1:0] h, input [SPW-1:0] lvl, input [STK_N-1:0] col,
+                               input [STK_N*OW-1:0] pidx, input [SW-1:0] last, input rf,
+                               input [SPW-1:0] here, input [OW-1:0] obj);
+        integer l;
         begin
-            unwound[0 +: SPW] = lvl;
-            if (|h)
-                unwound[SPW +: SW] = |(h & (col << 1)) ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
+            unwound[UJ_KIND]        = K_SPH;
+            unwound[UJ_IDX +: OW]   = {OW{1'b0}};
+            for (l = 1; l < STK_N; l = l + 1)   // h is one-hot: an AND-OR
+                unwound[UJ_IDX +: OW] = unwound[UJ_IDX +: OW] | ({OW{h[l]}} & pidx[OW*(l - 1) +: OW]);
+            unwound[UJ_SP +: SPW]   = lvl;
+            if (rf) begin
+                unwound[UJ_ST +: SW]  = `ISA_ST_RF_NSUB;
+                unwound[UJ_SP +: SPW] = here;
+                unwound[UJ_IDX +: OW] = obj;
+            end
+            else if (|(h & col))
+                unwound[UJ_ST +: SW] = |(h & (col << 1)) ? `ISA_ST_POP_ADD : `ISA_ST_POP_MOV;
+            else if (|h)
+                unwound[UJ_ST +: SW] = `ISA_ST_RF_NSUB;
             else
-                unwound[SPW +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
+                unwound[UJ_ST +: SW] = col[0] ? last : `ISA_ST_ROOT_BLACK;
         end
     endfunction
 
-    // shade_next (pp_ctrl).
-    function [JW-1:0] shade_next(input [1:0] from, input lit, input diff, input spec,
-                                 input [MB-1:0] mat, input push, input [JW-1:0] stay_j,
-                                 input [JW-1:0] unwind_j);
-        begin
-            shade_next = stay_j;
-            if (from <= S_DIFFUSE && lit && (mat[MAT_DIFFUSE] || mat[MAT_SPECULAR])) begin
-                shade_next[J_ST +: SW]      = `ISA_ST_DOT_1;
-                shade_next[J_CALL +: CALLW] = D_DIFFUSE;
-            end
-            else if (from <= S_REFLECT && (push || (lit && mat[MAT_SPECULAR]))) begin
-                shade_next[J_ST +: SW]      = `ISA_ST_DOT_1;
-                shade_next[J_CALL +: CALLW] = D_REFLECT;
-            end
-            else if (from <= S_SPECULAR && lit && mat[MAT_SPECULAR]) begin
-                shade_next[J_ST +: SW]      = `ISA_ST_DOT_1;
-                shade_next[J_CALL +: CALLW] = D_SPECULAR;
-            end
-            else if (diff && spec)
-                shade_next[J_ST +: SW] = `ISA_ST_SH_LOCAL;
-            else if (diff || spec)
-                shade_next[J_ST +: SW] = `ISA_ST_SH_COLOUR;
-            else if (push)
-                shade_next[J_ST +: SW] = `ISA_ST_SH_CHILD_W;
-            else
-                shade_next = unwind_j;
-        end
-    endfunction
-
-    // nearest_hit_next (pp_ctrl).
-    function [JW-1:0] nearest_hit_next(input [JW-1:0] stay_j, input box, input [OW:0] sph,
-                                       input leaving_spheres, input [OW:0] pln, input ctx,
-                                       input found, input shortcut_on, input cut,
-                                       input [JW-1:0] clear_j, input [JW-1:0] unwind_j);
-        begin
-            nearest_hit_next = stay_j;
-            if (sph[OW] && box)
-                nearest_hit_next[J_ST +: SW] = `ISA_ST_BOX_FAR;
-            else if (sph[OW]) begin
-                nearest_hit_next[J_ST +: SW]  = `ISA_ST_SPH_V;
-                nearest_hit_next[J_KIND]      = K_SPH;
-                nearest_hit_next[J_IDX +: OW] = sph[OW-1:0];
-            end
-            else if (leaving_spheres && ctx == C_SHD && shortcut_on)
-                nearest_hit_next = clear_j;
-            else if (pln[OW]) begin
-                nearest_hit_next[J_ST +: SW]  = `ISA_ST_ISECT_1;
-                nearest_hit_next[J_KIND]      = K_PLN;
-                nearest_hit_next[J_IDX +: OW] = pln[OW-1:0];
-            end
-            else if (ctx == C_SHD)
-                nearest_hit_next = clear_j;
-            else if (found)
-                nearest_hit_next[J_ST +: SW] = cut ? `ISA_ST_CUT_W : `ISA_ST_SH_OFFSET;
-            else
-                nearest_hit_next = unwind_j;
-        end
-    endfunction
-
-    // primary_ray_next (pp_ctrl): {rot, st, call}.
-    function [RAW+SW+CALLW-1:0] primary_ray_next(input [ROT_N-1:0] on, input [RAW:0] from,
-                                                 input [RAW-1:0] axis, input [CALLW-1:0] call);
-        integer a;
-        begin
-            primary_ray_next[CALLW + SW +: RAW] = axis;
-            primary_ray_next[CALLW +: SW]       = `ISA_ST_DOT_1;
-            primary_ray_next[0 +: CALLW]        = D_PRIMARY;
-            for (a = ROT_N - 1; a >= 0; a = a - 1)
-                if (a >= from && on[a]) begin
-                    primary_ray_next[CALLW + SW +: RAW] = a[RAW-1:0];
-                    primary_ray_next[CALLW +: SW]       = `ISA_ST_ROT_COS;
-                    primary_ray_next[0 +: CALLW]        = call;
-                end
-        end
+    // An unwinding's jump as a jump, with the call `call`.
+    function [JW-1:0] uj_jump(input [UJW-1:0] u, input [CALLW-1:0] call);
+        uj_jump = {u[UJ_ST +: SW], u[UJ_SP +: SPW], call, u[UJ_KIND], u[UJ_IDX +: OW]};
     endfunction
 
     // Register addresses (golden::micro::isa::sphere, plane, corner, rot),
@@ -399,12 +348,16 @@ module fast_ctrl #(
     // two bits clear (sphere and plane fields are 0..3 past it, the
     // stride 4), so object k's field is the field's address with k in
     // bits 2 and up; a corner and a rotation register are tables of their
-    // 3-bit argument (static checks below).
+    // 3-bit argument; a sphere's TRN register is TRN0 with k in its low
+    // bits (static checks below).
     function [RW-1:0] sphere(input [OW-1:0] k, input [RW-1:0] field0);
         sphere = field0 | {{(RW - OW - 2){1'b0}}, k, 2'b00};
     endfunction
     function [RW-1:0] plane(input [OW-1:0] j, input [RW-1:0] field0);
         plane = field0 | {{(RW - OW - 2){1'b0}}, j, 2'b00};
+    endfunction
+    function [RW-1:0] trn(input [OW-1:0] k);
+        trn = `ISA_REG_TRN0 | {{(RW - OW){1'b0}}, k};
     endfunction
     function [RW-1:0] corner(input [LN-1:0] sgn);
         case (sgn)
@@ -448,8 +401,8 @@ module fast_ctrl #(
     localparam [SELW-1:0]  B_CONST = 0, B_ROT_C = 1, B_OBJ_N = 2, B_OBJ_MAT = 3, B_SHADE_P = 4,
                            B_SHADE_W = 5, B_SEARCH_O = 6, B_SEARCH_D = 7, B_ISECT_N = 8,
                            B_SPH_C = 9, B_OBJ_SPH_C = 10, B_OBJ_SPH_R = 11, B_BEST_MAT = 12,
-                           B_BEST_CUT = 13;
-    localparam integer B_N = 14;
+                           B_BEST_CUT = 13, B_TRN = 14, B_BEST_TRN = 15;
+    localparam integer B_N = 16;
     localparam [WSELW-1:0] W_CONST = 0, W_U_DST = 1, W_SHADE_P = 2, W_SHADE_R = 3, W_SHADE_COL = 4;
     localparam integer W_N = 5;
     // A plan: {op, mask, a code, a register, b code, b register, w code, w register}.
@@ -466,7 +419,7 @@ module fast_ctrl #(
     // call or the rotation axis sets (P4a2).
     localparam integer VARW = 3;
     localparam [VARW-1:0]  V_NONE = 0, V_DOT_1 = 1, V_DOT_3 = 2, V_NORM_SCALE = 3, V_ROT_U = 4,
-                           V_ROT_V = 5, V_ROT_UV = 6;
+                           V_ROT_V = 5, V_ROT_UV = 6, V_RF_CS = 7;
     localparam integer PLVW   = PLW + VARW;
     // The operand sources: {w's codes W_N-1 .. 1, b's B_N-1 .. 1, a's A_N-1 .. 1}.
     localparam integer SRC_A  = 0;
@@ -558,6 +511,47 @@ module fast_ctrl #(
                 `ISA_ST_EXPO_EXP:   begin o = `ISA_OP_EXP; w = T_U; a = T_U; end
                 `ISA_ST_EXPO_SUB:   begin o = `ISA_OP_SUB; w = `ISA_REG_CUR_COL; a = `ISA_REG_ONE; b = T_U; end
                 `ISA_ST_PIX_DONE:   a = `ISA_REG_STK0_COL;
+                // refract (sphere idx; TRN = <eta, ior, kt>)
+                `ISA_ST_RF_NSUB:   begin o = `ISA_OP_SUB; w = T_N; a = `ISA_REG_CUR_O; bs = B_SPH_C; end
+                `ISA_ST_RF_NSCALE: begin o = `ISA_OP_MULY; w = T_N; a = T_N; bs = B_OBJ_SPH_R; end
+                `ISA_ST_RF_COS2:   begin o = `ISA_OP_MUL; w = T_U; a = T_Q; b = T_Q; m = M_X; end
+                `ISA_ST_RF_SIN2:   begin o = `ISA_OP_SUB; w = T_U; a = `ISA_REG_ONE; b = T_U; m = M_X; end
+                `ISA_ST_RF_ETA1:   begin o = `ISA_OP_MULX; w = T_U; a = T_U; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_ETA2:   begin o = `ISA_OP_MULX; w = T_U; a = T_U; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_K:      begin o = `ISA_OP_SUB; w = T_U; a = `ISA_REG_ONE; b = T_U; m = M_X; end
+                `ISA_ST_RF_SQRT:   begin o = `ISA_OP_SQRT; w = T_U; a = T_U; m = M_X; end
+                `ISA_ST_RF_EDN:    begin o = `ISA_OP_MULX; w = T_G; a = T_Q; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_COEF:   begin o = `ISA_OP_ADD; w = T_G; a = T_G; b = T_U; m = M_X; end
+                `ISA_ST_RF_ED:     begin o = `ISA_OP_MULX; w = T_V; a = `ISA_REG_PAR_D; bs = B_TRN; end
+                `ISA_ST_RF_CN:     begin o = `ISA_OP_MULX; w = T_S; a = T_N; b = T_G; end
+                `ISA_ST_RF_DIR:    begin o = `ISA_OP_SUB; w = T_R; a = T_V; b = T_S; end
+                `ISA_ST_RF_CV:     begin o = `ISA_OP_SUB; w = T_V; a = `ISA_REG_CUR_O; bs = B_SPH_C; end
+                `ISA_ST_RF_CBD:    begin o = `ISA_OP_NMULX; w = T_U; a = T_R; b = T_Q; end
+                `ISA_ST_RF_CW:     begin o = `ISA_OP_ADD; w = T_V; a = T_V; b = T_U; end
+                `ISA_ST_RF_CSQRT:  begin o = `ISA_OP_SQRT; w = T_S; a = T_S; m = M_X; end
+                `ISA_ST_RF_CS:     begin o = `ISA_OP_SUB; w = T_S; b = T_Q; m = M_X; v = V_RF_CS; end
+                `ISA_ST_RF_CST:    begin o = `ISA_OP_MULX; w = T_U; a = T_R; b = T_S; end
+                `ISA_ST_RF_EXIT:   begin o = `ISA_OP_ADD; w = `ISA_REG_CUR_O; a = `ISA_REG_CUR_O; b = T_U; end
+                `ISA_ST_RF_OSUB:   begin o = `ISA_OP_SUB; w = T_N; a = `ISA_REG_CUR_O; bs = B_SPH_C; end
+                `ISA_ST_RF_OSCALE: begin o = `ISA_OP_MULY; w = T_N; a = T_N; bs = B_OBJ_SPH_R; end
+                `ISA_ST_RF_OCOS2:  begin o = `ISA_OP_MUL; w = T_U; a = T_Q; b = T_Q; m = M_X; end
+                `ISA_ST_RF_OSIN2:  begin o = `ISA_OP_SUB; w = T_U; a = `ISA_REG_ONE; b = T_U; m = M_X; end
+                `ISA_ST_RF_OIOR1:  begin o = `ISA_OP_MULY; w = T_U; a = T_U; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_OIOR2:  begin o = `ISA_OP_MULY; w = T_U; a = T_U; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_OK:     begin o = `ISA_OP_SUB; w = T_U; a = `ISA_REG_ONE; b = T_U; m = M_X; end
+                `ISA_ST_RF_OEDN:   begin o = `ISA_OP_MULY; w = T_G; a = T_Q; bs = B_TRN; m = M_X; end
+                `ISA_ST_RF_OSQRT:  begin o = `ISA_OP_SQRT; w = T_U; a = T_U; m = M_X; end
+                `ISA_ST_RF_OCOEF:  begin o = `ISA_OP_SUB; w = T_G; a = T_G; b = T_U; m = M_X; end
+                `ISA_ST_RF_OED:    begin o = `ISA_OP_MULY; w = T_V; a = T_R; bs = B_TRN; end
+                `ISA_ST_RF_OCN:    begin o = `ISA_OP_MULX; w = T_S; a = T_N; b = T_G; end
+                `ISA_ST_RF_ODIR:   begin o = `ISA_OP_SUB; w = `ISA_REG_CUR_D; a = T_V; b = T_S; end
+                `ISA_ST_RF_TIR_K:  begin o = `ISA_OP_MUL2X; w = T_U; a = T_N; b = T_Q; end
+                `ISA_ST_RF_TIR:    begin o = `ISA_OP_SUB; w = `ISA_REG_CUR_D; a = `ISA_REG_PAR_D; b = T_U; end
+                `ISA_ST_RF_CHILD_W: begin
+                    o = `ISA_OP_MULZ; w = `ISA_REG_CUR_W; a = `ISA_REG_PAR_W; bs = B_TRN;
+                end
+                `ISA_ST_RF_CUT_W:  begin o = `ISA_OP_MULZ; w = T_U; a = `ISA_REG_CUR_W; bs = B_BEST_TRN; m = M_Z; end
+                `ISA_ST_RF_CUT_CMP: begin o = `ISA_OP_SUB; w = T_G; a = T_U; bs = B_BEST_CUT; m = M_Z; end
                 default: ;
             endcase
             plan = {v, o, m, as, a, bs, b, ws, w};
@@ -565,10 +559,10 @@ module fast_ctrl #(
     endfunction
 
     // P4a2: the fields of a plan that its variant code `v` leaves to the
-    // call and the rotation axis (in plan, every such field is its
+    // call, the rotation axis and rfneg (in plan, every such field is its
     // default: register ZERO, code 0, mask XYZ).
     function [PLW-1:0] with_variant(input [PLVW-1:0] p, input [CALLW-1:0] call,
-                                    input [RAW-1:0] rot);
+                                    input [RAW-1:0] rot, input rfneg);
         reg [LN-1:0] rot_u, rot_v;
         begin
             rot_u = rot == 0 ? M_Y : rot == 1 ? M_Z : M_X;
@@ -585,6 +579,9 @@ module fast_ctrl #(
                             with_variant[PL_AS +: SELW] = A_SHADE_D;
                             with_variant[PL_BS +: SELW] = B_OBJ_N;
                         end
+                        D_RF_IN:    begin with_variant[PL_A +: RW] = `ISA_REG_PAR_D; with_variant[PL_B +: RW] = T_N; end
+                        D_RF_CHORD: begin with_variant[PL_A +: RW] = T_V; with_variant[PL_B +: RW] = T_R; end
+                        D_RF_OUT:   begin with_variant[PL_A +: RW] = T_R; with_variant[PL_B +: RW] = T_N; end
                         default:   begin with_variant[PL_AS +: SELW] = A_SHADE_R; with_variant[PL_B +: RW] = T_L; end
                     endcase
                 V_DOT_3:
@@ -600,6 +597,8 @@ module fast_ctrl #(
                 V_ROT_U:  with_variant[PL_M +: LN] = rot_u;
                 V_ROT_V:  with_variant[PL_M +: LN] = rot_v;
                 V_ROT_UV: with_variant[PL_M +: LN] = rot_u | rot_v;
+                // refract: s = sqrt(disc) - b, or 0 - b where disc < 0
+                V_RF_CS:  with_variant[PL_A +: RW] = rfneg ? `ISA_REG_ZERO : T_S;
                 default: ;
             endcase
         end
@@ -607,7 +606,7 @@ module fast_ctrl #(
 
     function [SRCW-1:0] operands(input [SWD-1:0] s);
         reg [RAW-1:0]   rot;
-        reg             ctx, kind, found, okind, push, bkind;
+        reg             ctx, kind, found, okind, push, bkind, chord;
         reg [OW-1:0]    idx, oidx, bidx;
         reg [LN-1:0]    dsign;
         reg [RW-1:0]    shading_o, shading_d, shading_col, shading_w, shading_p, shading_r;
@@ -622,7 +621,10 @@ module fast_ctrl #(
             oidx  = s[S_OIDX +: OW];
             bkind = s[S_BKIND];
             bidx  = s[S_BIDX +: OW];
-            push  = s[S_PUSH];
+            // A child is pushed for the reflected ray or the refracted one:
+            // either way the shaded ray is the parent's.
+            push  = s[S_PUSH] || s[S_REFR];
+            chord = s[J_CALL +: CALLW] == D_RF_CHORD;
             dsign = s[S_DSIGN +: LN];
 
             shading_o   = push ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
@@ -643,7 +645,8 @@ module fast_ctrl #(
             operands = {
                 // w: W_SHADE_COL .. W_U_DST
                 shading_col, shading_r, shading_p, (ctx == C_HIT && !found) ? T_BEST : T_U,
-                // b: B_BEST_CUT .. B_ROT_C
+                // b: B_BEST_TRN .. B_ROT_C
+                trn(bidx), trn(idx),
                 bkind == K_SPH ? sphere(bidx, `ISA_REG_SPH0_R) : plane(bidx, `ISA_REG_PLN0_Q),
                 bkind == K_SPH ? sphere(bidx, `ISA_REG_SPH0_MAT) : plane(bidx, `ISA_REG_PLN0_MAT),
                 sphere(oidx, `ISA_REG_SPH0_R), sphere(oidx, `ISA_REG_SPH0_C), sphere(idx, `ISA_REG_SPH0_C),
@@ -653,18 +656,18 @@ module fast_ctrl #(
                 (s[S_SPEC] && !s[S_DIFF]) ? T_G : T_S, corner(~dsign), corner(dsign),
                 kind == K_SPH ? sphere(idx, `ISA_REG_SPH0_R) : plane(idx, `ISA_REG_PLN0_Q),
                 kind == K_SPH ? T_V : search_o,
-                search_d, search_o, shading_r, shading_p, shading_d, shading_o, obj_col, obj_mat, obj_n,
+                chord ? T_R : search_d, search_o, shading_r, shading_p, shading_d, shading_o, obj_col, obj_mat, obj_n,
                 rot_reg(rot, `ISA_REG_ROT0_S)};
         end
     endfunction
 
     // P4b: {op, a, b, w, mask}, each address its register or its source.
     function [UW-1:0] micro_op(input [PLW-1:0] p, input [SRCW-1:0] src);
-        reg [(1 << SELW)*RW-1:0]  a_of, b_of;   // codes past a field's last read 0
+        reg [(1 << SELW)*RW-1:0]  a_of, b_of;   // every code used (static check below)
         reg [(1 << WSELW)*RW-1:0] w_of;
         begin
             a_of = {src[SRC_A +: (A_N - 1) * RW], p[PL_A +: RW]};
-            b_of = {{((1 << SELW) - B_N) * RW{1'b0}}, src[SRC_B +: (B_N - 1) * RW], p[PL_B +: RW]};
+            b_of = {src[SRC_B +: (B_N - 1) * RW], p[PL_B +: RW]};
             w_of = {{((1 << WSELW) - W_N) * RW{1'b0}}, src[SRC_W +: (W_N - 1) * RW], p[PL_W +: RW]};
             micro_op = {p[PL_OP +: OPW],
                         a_of[RW*p[PL_AS +: SELW] +: RW],
@@ -736,13 +739,16 @@ module fast_ctrl #(
     // ------------------------------------------------------------------------
     // Position 1: the state after the turn; hold: the next turn repeats it
     // ------------------------------------------------------------------------
+    // cw1: the turn was SH_CHILD_W of a hit that also has a refracted
+    // child, which the parent's level now owes (pp_ctrl's owes_now).
     reg [SWD-1:0] s1;
-    reg           h1;
+    reg           h1, cw1;
     always @(posedge clk) begin
         if (initial_sweep || (is_free && !take)) s1 <= S_IDLE;
         else if (take)                           s1 <= S_TAKEN;
         else                                     s1 <= s0;
-        h1 <= !issue;
+        h1  <= !issue;
+        cw1 <= !initial_sweep && st0 == `ISA_ST_SH_CHILD_W && s0[S_REFR];
     end
 
     // ------------------------------------------------------------------------
@@ -752,9 +758,28 @@ module fast_ctrl #(
     wire             okind1 = s1[S_OKIND];
     wire [OW-1:0]    oidx1  = s1[S_OIDX +: OW];
     wire [STK_N-1:0] col1   = s1[S_COL +: STK_N];
+    wire [STK_N-1:0] pend1  = s1[S_PEND +: STK_N];
+    wire [STK_N*OW-1:0] pidx1 = s1[S_PIDX +: STK_N * OW];
+    wire             child1 = s1[S_PUSH] || s1[S_REFR];
     wire [OBJ_N-1:0] gt1    = above(s1[J_IDX +: OW]);
-    wire [STK_N-1:0] col_mov1    = col1 | level_bit(below_level(sp1));
+    wire [STK_N-1:0] below1      = level_bit(below_level(sp1));
+    wire [STK_N-1:0] col_mov1    = col1 | below1;
     wire [STK_N-1:0] col_colour1 = col1 | level_bit(sp1);
+    // SH_CHILD_W: the parent's level owes the refracted child (refr) on
+    // the shaded sphere; pend_now1, pidx_now1: as they stand after
+    // SH_CHILD_W's turn when cw1, for the search that may end in it.
+    wire [STK_N-1:0] pend_cw1    = (pend1 & ~below1) | (s1[S_REFR] ? below1 : {STK_N{1'b0}});
+    reg  [STK_N*OW-1:0] pidx_cw1;
+    integer kp;
+    always @* begin
+        pidx_cw1 = pidx1;
+        for (kp = 0; kp < STK_N; kp = kp + 1)
+            if (below1[kp]) pidx_cw1[OW*kp +: OW] = oidx1;
+    end
+    wire [STK_N-1:0]    pend_now1 = cw1 ? (pend1 | below1) : pend1;
+    wire [STK_N*OW-1:0] pidx_now1 = cw1 ? pidx_cw1 : pidx1;
+    wire             best_trn1 = s1[S_BKIND] == K_SPH && sph_trn[s1[S_BIDX +: OW]];
+    wire             this_trn1 = s1[J_KIND] == K_SPH && sph_trn[s1[J_IDX +: OW]];
     wire [OBJ_N-1:0] pln_skip1   = skipped(s1[S_EXCL] && okind1 == K_PLN, oidx1);
     wire [PLN_N-1:0] pln_base1   = pln_lt_n_q & ~pln_skip1[PLN_N-1:0];
     wire             unused_pln_skip1 = ^pln_skip1[OBJ_N-1:PLN_N];
@@ -766,15 +791,24 @@ module fast_ctrl #(
     reg [SPH_N-1:0]  sph_open_first2, sph_open_next2;
     reg [PLN_N-1:0]  pln_open_first2, pln_open_next2, pln_base2;
     reg [MB-1:0]     obj_bits2, best_bits2, this_bits2;
+    reg              best_trn2, this_trn2;
     reg              room2;
     reg [SPW-1:0]    sp_inc2;
-    // The four unwindings: now (sp, col), POP_ADD (sp - 1, col), POP_MOV
-    // (sp - 1, col with level sp - 1), SH_COLOUR without a push (sp, col
-    // with level sp): the coloured levels at or below `from`, and col.
+    // The four unwindings: now (sp, col, pend as after SH_CHILD_W),
+    // POP_ADD (sp - 1, col), POP_MOV (sp - 1, col with level sp - 1),
+    // SH_COLOUR without a push (sp, col with level sp); after a POP, the
+    // refracted child owed at sp too. m: the levels to look at; c: the
+    // colours a POP may take; p: the owed children's spheres.
     reg [STK_N-1:0]  uw_m_now2, uw_m_add2, uw_m_mov2, uw_m_col2;
     reg [STK_N-1:0]  uw_c_now2, uw_c_add2, uw_c_mov2, uw_c_col2;
+    reg [STK_N*OW-1:0] uw_p_now2, uw_p2;
     reg [STK_N-1:0]  col_shade2;   // SH_COLOUR: col with the shaded level's bit
     reg [STK_N-1:0]  col_mov2;     // POP_MOV: col with level sp - 1
+    reg [STK_N-1:0]  col_push2;    // SH_OFFSET with a child: col without level sp + 1
+    reg [STK_N-1:0]  col_nsub2;    // RF_NSUB: col without level sp
+    reg [STK_N-1:0]  pend_nsub2;   // RF_NSUB: pend without level sp - 1
+    reg [STK_N-1:0]  pend_cw2;     // SH_CHILD_W: pend, pidx with level sp - 1 written
+    reg [STK_N*OW-1:0] pidx_cw2;
     reg [RAW+SW+CALLW-1:0] prn_first2, prn_after2;
     always @(posedge clk) begin
         s2              <= s1;
@@ -787,18 +821,27 @@ module fast_ctrl #(
         obj_bits2       <= bits(okind1, oidx1, sph_bits, pln_bits);
         best_bits2      <= bits(s1[S_BKIND], s1[S_BIDX +: OW], sph_bits, pln_bits);
         this_bits2      <= bits(s1[J_KIND], s1[J_IDX +: OW], sph_bits, pln_bits);
+        best_trn2       <= best_trn1;
+        this_trn2       <= this_trn1;
         room2           <= room_at_q[sp1];
         sp_inc2         <= sp1 + 1'b1;
-        uw_m_now2       <= col1 & at_or_below(sp1);
-        uw_m_add2       <= col1 & at_or_below(below_level(sp1));
-        uw_m_mov2       <= col_mov1 & at_or_below(below_level(sp1));
-        uw_m_col2       <= col_colour1 & at_or_below(sp1);
+        uw_m_now2       <= (col1 | (pend_now1 << 1)) & at_or_below(sp1);
+        uw_m_add2       <= (col1 & at_or_below(below_level(sp1))) | ((pend1 << 1) & at_or_below(sp1));
+        uw_m_mov2       <= (col_mov1 & at_or_below(below_level(sp1))) | ((pend1 << 1) & at_or_below(sp1));
+        uw_m_col2       <= (col_colour1 | (pend1 << 1)) & at_or_below(sp1);
         uw_c_now2       <= col1;
-        uw_c_add2       <= col1;
-        uw_c_mov2       <= col_mov1;
+        uw_c_add2       <= col1 & at_or_below(below_level(sp1));
+        uw_c_mov2       <= col_mov1 & at_or_below(below_level(sp1));
         uw_c_col2       <= col_colour1;
-        col_shade2      <= s1[S_PUSH] ? col_mov1 : col_colour1;
+        uw_p_now2       <= pidx_now1;
+        uw_p2           <= pidx1;
+        col_shade2      <= child1 ? col_mov1 : col_colour1;
         col_mov2        <= col_mov1;
+        col_push2       <= col1 & ~level_bit(sp1 + 1'b1);
+        col_nsub2       <= col1 & ~level_bit(sp1);
+        pend_nsub2      <= pend1 & ~below1;
+        pend_cw2        <= pend_cw1;
+        pidx_cw2        <= pidx_cw1;
         prn_first2      <= primary_ray_next(rotate, {(RAW + 1){1'b0}}, s1[S_ROT +: RAW], s1[J_CALL +: CALLW]);
         prn_after2      <= primary_ray_next(rotate, {1'b0, s1[S_ROT +: RAW]} + 1'b1, s1[S_ROT +: RAW],
                                             s1[J_CALL +: CALLW]);
@@ -812,12 +855,18 @@ module fast_ctrl #(
     reg [OW:0]       sph_first3, sph_next3, pln_first3, pln_next3;
     reg [PLN_N-1:0]  pln_base3;
     reg [MB-1:0]     obj_bits3;
-    reg              cut_best3, cut_this3, run_push3;
+    // With the cutoff, cut() before shading a hit: for its reflected child
+    // (cut_*), else for its refracted one (rcut_*); the best hit or the
+    // object under test.
+    reg              cut_best3, cut_this3, rcut_best3, rcut_this3;
+    reg              run_push3, run_refr3, rf_cut3, rf_end3;
     reg [SPW-1:0]    sp_inc3;
-    reg [STK_N-1:0]  uw_h_now3, uw_h_add3, uw_h_mov3, uw_h_col3;   // the highest coloured level, one-hot
+    reg [STK_N-1:0]  uw_h_now3, uw_h_add3, uw_h_mov3, uw_h_col3;   // the highest level of m, one-hot
     reg [SPW-1:0]    uw_l_now3, uw_l_add3, uw_l_mov3, uw_l_col3;   // ... and its number (0: none)
     reg [STK_N-1:0]  uw_c_now3, uw_c_add3, uw_c_mov3, uw_c_col3;
-    reg [STK_N-1:0]  col_shade3, col_mov3;
+    reg [STK_N*OW-1:0] uw_p_now3, uw_p3;
+    reg [STK_N-1:0]  col_shade3, col_mov3, col_push3, col_nsub3, pend_nsub3, pend_cw3;
+    reg [STK_N*OW-1:0] pidx_cw3;
     reg [RAW+SW+CALLW-1:0] prn_first3, prn_after3;
     always @(posedge clk) begin
         s3         <= s2;
@@ -830,7 +879,12 @@ module fast_ctrl #(
         obj_bits3  <= obj_bits2;
         cut_best3  <= cutoff && best_bits2[MAT_REFLECTIVE] && room2;
         cut_this3  <= cutoff && this_bits2[MAT_REFLECTIVE] && room2;
+        rcut_best3 <= cutoff && best_trn2 && room2;
+        rcut_this3 <= cutoff && this_trn2 && room2;
         run_push3  <= best_bits2[MAT_REFLECTIVE] && room2 && !(cutoff && s2[S_CUT]);
+        run_refr3  <= best_trn2 && room2 && !(cutoff && s2[S_RCUT]);
+        rf_cut3    <= best_trn2 && room2;
+        rf_end3    <= s2[S_REFR] && !s2[S_PUSH];
         sp_inc3    <= sp_inc2;
         uw_h_now3  <= highest(uw_m_now2);
         uw_h_add3  <= highest(uw_m_add2);
@@ -844,46 +898,75 @@ module fast_ctrl #(
         uw_c_add3  <= uw_c_add2;
         uw_c_mov3  <= uw_c_mov2;
         uw_c_col3  <= uw_c_col2;
+        uw_p_now3  <= uw_p_now2;
+        uw_p3      <= uw_p2;
         col_shade3 <= col_shade2;
         col_mov3   <= col_mov2;
+        col_push3  <= col_push2;
+        col_nsub3  <= col_nsub2;
+        pend_nsub3 <= pend_nsub2;
+        pend_cw3   <= pend_cw2;
+        pidx_cw3   <= pidx_cw2;
         prn_first3 <= prn_first2;
         prn_after3 <= prn_after2;
     end
 
     // ------------------------------------------------------------------------
-    // P1c: the unwindings' states, the pushed stack pointer
+    // P1c: the unwindings' jumps, the first state of shading, the pushed
+    // stack pointer
     // ------------------------------------------------------------------------
+    // shade_first (pp_ctrl): cut() for the reflected child, for the
+    // refracted one, or SH_OFFSET.
+    function [SW-1:0] shade_first(input cut, input rcut);
+        shade_first = cut ? `ISA_ST_CUT_W : rcut ? `ISA_ST_RF_CUT_W : `ISA_ST_SH_OFFSET;
+    endfunction
+
     reg [SWD-1:0]    s4;
     reg              h4;
     reg [OW:0]       sph_first4, sph_next4, pln_first4, pln_next4;
     reg [PLN_N-1:0]  pln_base4;
     reg [MB-1:0]     obj_bits4;
-    reg              cut_best4, cut_this4, run_push4;
+    reg [SW-1:0]     first_best4, first_this4;
+    reg              run_push4, run_refr4, rf_cut4;
     reg [SPW-1:0]    sp_offset4;
-    reg [SW+SPW-1:0] uw_now4, uw_add4, uw_mov4, uw_col4;
-    reg [STK_N-1:0]  col_shade4, col_mov4;
+    // now, POP_ADD, POP_MOV, SH_COLOUR (its refracted child first), and
+    // shading's end (shade_end: the refracted child first if it is the
+    // only child, else now).
+    reg [UJW-1:0]    uw_now4, uw_add4, uw_mov4, uw_col4, uw_end4;
+    reg [STK_N-1:0]  col_shade4, col_mov4, col_push4, col_nsub4, pend_nsub4, pend_cw4;
+    reg [STK_N*OW-1:0] pidx_cw4;
     reg [RAW+SW+CALLW-1:0] prn_first4, prn_after4;
+    wire [SPW-1:0]   sp3   = s3[J_SP +: SPW];
+    wire [OW-1:0]    oidx3 = s3[S_OIDX +: OW];
     always @(posedge clk) begin
-        s4         <= s3;
-        h4         <= h3;
-        sph_first4 <= sph_first3;
-        sph_next4  <= sph_next3;
-        pln_first4 <= pln_first3;
-        pln_next4  <= pln_next3;
-        pln_base4  <= pln_base3;
-        obj_bits4  <= obj_bits3;
-        cut_best4  <= cut_best3;
-        cut_this4  <= cut_this3;
-        run_push4  <= run_push3;
-        sp_offset4 <= run_push3 ? sp_inc3 : s3[J_SP +: SPW];
-        uw_now4    <= unwound(uw_h_now3, uw_l_now3, uw_c_now3, pixel_end);
-        uw_add4    <= unwound(uw_h_add3, uw_l_add3, uw_c_add3, pixel_end);
-        uw_mov4    <= unwound(uw_h_mov3, uw_l_mov3, uw_c_mov3, pixel_end);
-        uw_col4    <= unwound(uw_h_col3, uw_l_col3, uw_c_col3, pixel_end);
-        col_shade4 <= col_shade3;
-        col_mov4   <= col_mov3;
-        prn_first4 <= prn_first3;
-        prn_after4 <= prn_after3;
+        s4          <= s3;
+        h4          <= h3;
+        sph_first4  <= sph_first3;
+        sph_next4   <= sph_next3;
+        pln_first4  <= pln_first3;
+        pln_next4   <= pln_next3;
+        pln_base4   <= pln_base3;
+        obj_bits4   <= obj_bits3;
+        first_best4 <= shade_first(cut_best3, rcut_best3);
+        first_this4 <= shade_first(cut_this3, rcut_this3);
+        run_push4   <= run_push3;
+        run_refr4   <= run_refr3;
+        rf_cut4     <= rf_cut3;
+        sp_offset4  <= (run_push3 || run_refr3) ? sp_inc3 : sp3;
+        uw_now4     <= unwound(uw_h_now3, uw_l_now3, uw_c_now3, uw_p_now3, pixel_end, 1'b0, sp3, oidx3);
+        uw_add4     <= unwound(uw_h_add3, uw_l_add3, uw_c_add3, uw_p3, pixel_end, 1'b0, sp3, oidx3);
+        uw_mov4     <= unwound(uw_h_mov3, uw_l_mov3, uw_c_mov3, uw_p3, pixel_end, 1'b0, sp3, oidx3);
+        uw_col4     <= unwound(uw_h_col3, uw_l_col3, uw_c_col3, uw_p3, pixel_end, rf_end3, sp3, oidx3);
+        uw_end4     <= unwound(uw_h_now3, uw_l_now3, uw_c_now3, uw_p_now3, pixel_end, rf_end3, sp3, oidx3);
+        col_shade4  <= col_shade3;
+        col_mov4    <= col_mov3;
+        col_push4   <= col_push3;
+        col_nsub4   <= col_nsub3;
+        pend_nsub4  <= pend_nsub3;
+        pend_cw4    <= pend_cw3;
+        pidx_cw4    <= pidx_cw3;
+        prn_first4  <= prn_first3;
+        prn_after4  <= prn_after3;
     end
 
     // ------------------------------------------------------------------------
@@ -892,7 +975,9 @@ module fast_ctrl #(
     // ------------------------------------------------------------------------
     localparam [OW:0] NONE = {(OW + 1){1'b0}};
     wire [JW-1:0] stay4      = s4[0 +: JW];
-    wire [JW-1:0] unwind_j4  = {uw_now4, s4[J_CALL +: CALLW], s4[J_KIND], s4[J_IDX +: OW]};
+    wire [JW-1:0] unwind_j4  = uj_jump(uw_now4, s4[J_CALL +: CALLW]);
+    wire [JW-1:0] shade_end4 = uj_jump(uw_end4, s4[J_CALL +: CALLW]);
+    wire          chord4     = s4[J_CALL +: CALLW] == D_RF_CHORD;
     wire          diff4      = s4[S_DIFF];
     wire          spec4      = s4[S_SPEC];
     wire          push4      = s4[S_PUSH];
@@ -905,7 +990,7 @@ module fast_ctrl #(
     wire          in_sph4    = (kind4 == K_SPH);
     wire [OW:0]   after_sph4 = in_sph4 ? sph_next4 : NONE;
     wire [OW:0]   after_pln4 = in_sph4 ? pln_first4 : pln_next4;
-    wire [JW-1:0] shd_false4 = shade_next(S_DIFFUSE, 1'b1, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+    wire [JW-1:0] shd_false4 = shade_next(S_DIFFUSE, 1'b1, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
     wire          prim4      = (call4 == D_PRIMARY);
     wire [LN-1:0] dsign4     = s4[S_DSIGN +: LN];
     wire [LN-1:0] same1_4    = ~(dsign4 ^ {dsign4[0], dsign4[LN-1:1]});
@@ -937,7 +1022,10 @@ module fast_ctrl #(
                          J_PLANE     = 5'd21,   // ISECT_1 on a plane (j inserted at C2)
                          J_OFFSET    = 5'd22,   // SH_POINT, sp after the push
                          J_DOT_SPH   = 5'd23,   // DOT_1, call SPHERE
-                         J_DOT_LIGHT = 5'd24;   // DOT_1, call LIGHT
+                         J_DOT_LIGHT = 5'd24,   // DOT_1, call LIGHT
+                         J_DOT_RF_IN = 5'd25,   // DOT_1, call RF_IN
+                         J_DOT_CHORD = 5'd26,   // DOT_1, call RF_CHORD
+                         J_DOT_RF_OUT = 5'd27;  // DOT_1, call RF_OUT
 
     reg [JSW-1:0]   src0, src1;
     reg [SW-1:0]    nst0, nst1;
@@ -993,7 +1081,10 @@ module fast_ctrl #(
                             else                        src1 = J_DIFF_LIT;
                             src0 = J_DIFF_DARK;
                         end
-                        D_REFLECT: nst0 = `ISA_ST_SH_REFL_K;
+                        D_REFLECT:  nst0 = `ISA_ST_SH_REFL_K;
+                        D_RF_IN:    nst0 = `ISA_ST_RF_COS2;
+                        D_RF_CHORD: nst0 = `ISA_ST_RF_CBD;
+                        D_RF_OUT:   nst0 = `ISA_ST_RF_OCOS2;
                         default: begin
                             mp   = M_X;                     // r.l > 0
                             nst1 = `ISA_ST_SH_POW2;
@@ -1033,8 +1124,16 @@ module fast_ctrl #(
                         mn  = M_Y;
                         inv = 1'b1;
                     end
-                    src1 = J_NH_AFTER;
-                    nst0 = kind4 == K_SPH ? `ISA_ST_SPH_SQRT : `ISA_ST_PLN_RECIP;
+                    if (chord4) begin
+                        // refract's chord: disc < 0 (rounding) is taken as 0
+                        r0[S_RFNEG] = 1'b0;
+                        r1[S_RFNEG] = 1'b1;
+                        nst1 = `ISA_ST_RF_CS;
+                        nst0 = `ISA_ST_RF_CSQRT;
+                    end else begin
+                        src1 = J_NH_AFTER;
+                        nst0 = kind4 == K_SPH ? `ISA_ST_SPH_SQRT : `ISA_ST_PLN_RECIP;
+                    end
                 end
                 `ISA_ST_BOX_FAR: nst0 = `ISA_ST_BOX_BEHIND;
                 `ISA_ST_BOX_BEHIND: begin
@@ -1100,7 +1199,14 @@ module fast_ctrl #(
                 `ISA_ST_CUT_W: nst0 = `ISA_ST_CUT_CMP;
                 `ISA_ST_CUT_CMP: begin
                     ld_cut = 1'b1;
-                    nst0   = `ISA_ST_SH_OFFSET;
+                    nst0   = rf_cut4 ? `ISA_ST_RF_CUT_W : `ISA_ST_SH_OFFSET;
+                end
+                `ISA_ST_RF_CUT_W: nst0 = `ISA_ST_RF_CUT_CMP;
+                `ISA_ST_RF_CUT_CMP: begin
+                    mn   = M_Z;                             // w kt < c: no refracted child
+                    r1[S_RCUT] = 1'b1;
+                    nst0 = `ISA_ST_SH_OFFSET;
+                    nst1 = `ISA_ST_SH_OFFSET;
                 end
                 `ISA_ST_SHD_DIST: begin
                     mp   = M_X;                             // the blocker is before the light
@@ -1110,7 +1216,11 @@ module fast_ctrl #(
                 end
                 `ISA_ST_SH_OFFSET: begin
                     r0[S_PUSH]       = run_push4;
+                    r0[S_REFR]       = run_refr4;
                     r0[S_CUT]        = 1'b0;
+                    r0[S_RCUT]       = 1'b0;
+                    // the child's level may hold an earlier subtree's colour
+                    if (run_push4 || run_refr4) r0[S_COL +: STK_N] = col_push4;
                     r0[S_OKIND]      = s4[S_BKIND];
                     r0[S_OIDX +: OW] = s4[S_BIDX +: OW];
                     r0[S_EXCL]       = 1'b1;
@@ -1153,6 +1263,73 @@ module fast_ctrl #(
                     else       src0 = J_COLOUR;
                 end
                 `ISA_ST_SH_CHILD_W: begin
+                    r0[S_CTX]   = C_HIT;
+                    r0[S_FOUND] = 1'b0;
+                    // the hit's refracted child waits for this subtree
+                    r0[S_PEND +: STK_N]      = pend_cw4;
+                    r0[S_PIDX +: STK_N * OW] = pidx_cw4;
+                    src0 = J_NH_START;
+                end
+                // refract: the refracted child of a hit on sphere idx
+                `ISA_ST_RF_NSUB: begin
+                    r0[S_OKIND]         = K_SPH;
+                    r0[S_OIDX +: OW]    = s4[J_IDX +: OW];
+                    r0[S_EXCL]          = 1'b1;
+                    r0[S_COL +: STK_N]  = col_nsub4;
+                    r0[S_PEND +: STK_N] = pend_nsub4;
+                    nst0 = `ISA_ST_RF_NSCALE;
+                end
+                `ISA_ST_RF_NSCALE: src0 = J_DOT_RF_IN;
+                `ISA_ST_RF_COS2:   nst0 = `ISA_ST_RF_SIN2;
+                `ISA_ST_RF_SIN2:   nst0 = `ISA_ST_RF_ETA1;
+                `ISA_ST_RF_ETA1:   nst0 = `ISA_ST_RF_ETA2;
+                `ISA_ST_RF_ETA2:   nst0 = `ISA_ST_RF_K;
+                `ISA_ST_RF_K: begin
+                    mn   = M_X;                             // k < 0: total internal reflection
+                    nst1 = `ISA_ST_RF_TIR_K;
+                    nst0 = `ISA_ST_RF_SQRT;
+                end
+                `ISA_ST_RF_SQRT:   nst0 = `ISA_ST_RF_EDN;
+                `ISA_ST_RF_EDN:    nst0 = `ISA_ST_RF_COEF;
+                `ISA_ST_RF_COEF:   nst0 = `ISA_ST_RF_ED;
+                `ISA_ST_RF_ED:     nst0 = `ISA_ST_RF_CN;
+                `ISA_ST_RF_CN:     nst0 = `ISA_ST_RF_DIR;
+                `ISA_ST_RF_DIR:    nst0 = `ISA_ST_RF_CV;
+                `ISA_ST_RF_CV:     src0 = J_DOT_CHORD;
+                `ISA_ST_RF_CBD:    nst0 = `ISA_ST_RF_CW;
+                `ISA_ST_RF_CW:     nst0 = `ISA_ST_ISECT_1;
+                `ISA_ST_RF_CSQRT:  nst0 = `ISA_ST_RF_CS;
+                `ISA_ST_RF_CS:     nst0 = `ISA_ST_RF_CST;
+                `ISA_ST_RF_CST:    nst0 = `ISA_ST_RF_EXIT;
+                `ISA_ST_RF_EXIT:   nst0 = `ISA_ST_RF_OSUB;
+                `ISA_ST_RF_OSUB:   nst0 = `ISA_ST_RF_OSCALE;
+                `ISA_ST_RF_OSCALE: src0 = J_DOT_RF_OUT;
+                `ISA_ST_RF_OCOS2:  nst0 = `ISA_ST_RF_OSIN2;
+                `ISA_ST_RF_OSIN2:  nst0 = `ISA_ST_RF_OIOR1;
+                `ISA_ST_RF_OIOR1:  nst0 = `ISA_ST_RF_OIOR2;
+                `ISA_ST_RF_OIOR2:  nst0 = `ISA_ST_RF_OK;
+                `ISA_ST_RF_OK: begin
+                    mn   = M_X;                             // k' < 0 (rounding): taken as 0
+                    r0[S_RFNEG] = 1'b0;
+                    r1[S_RFNEG] = 1'b1;
+                    nst0 = `ISA_ST_RF_OEDN;
+                    nst1 = `ISA_ST_RF_OEDN;
+                end
+                `ISA_ST_RF_OEDN:   nst0 = s4[S_RFNEG] ? `ISA_ST_RF_OED : `ISA_ST_RF_OSQRT;
+                `ISA_ST_RF_OSQRT:  nst0 = `ISA_ST_RF_OCOEF;
+                `ISA_ST_RF_OCOEF:  nst0 = `ISA_ST_RF_OED;
+                `ISA_ST_RF_OED:    nst0 = `ISA_ST_RF_OCN;
+                `ISA_ST_RF_OCN:    nst0 = `ISA_ST_RF_ODIR;
+                `ISA_ST_RF_ODIR: begin
+                    ld_dir = 1'b1;
+                    nst0   = `ISA_ST_RF_CHILD_W;
+                end
+                `ISA_ST_RF_TIR_K:  nst0 = `ISA_ST_RF_TIR;
+                `ISA_ST_RF_TIR: begin
+                    ld_dir = 1'b1;
+                    nst0   = `ISA_ST_RF_CHILD_W;
+                end
+                `ISA_ST_RF_CHILD_W: begin
                     r0[S_CTX]   = C_HIT;
                     r0[S_FOUND] = 1'b0;
                     src0 = J_NH_START;
@@ -1217,7 +1394,8 @@ module fast_ctrl #(
     reg [JW-1:0]    j_nh_after5, j_box_false5, j_offer5, j_shd_true5, j_shd_false5, j_nh_kept5,
                     j_nh_start5, j_diff_lit5, j_diff_dark5, j_spec_none5, j_sh_diff5, j_sh_refl5,
                     j_sh_spec5, j_unwind5, j_prn_first5, j_prn_after5, j_pop_add5, j_pop_mov5,
-                    j_colour5, j_sph_v5, j_plane5, j_offset5, j_dot_sph5, j_dot_light5;
+                    j_colour5, j_sph_v5, j_plane5, j_offset5, j_dot_sph5, j_dot_light5,
+                    j_dot_rf_in5, j_dot_chord5, j_dot_rf_out5;
     always @(posedge clk) begin
         s5          <= s4;
         src0_5      <= src0;
@@ -1236,36 +1414,39 @@ module fast_ctrl #(
         box_corner5 <= box_corner;
         pln_open5   <= pln_base4;
         j_nh_after5  <= nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
-                                         found4, shortcut, cut_best4, shd_false4, unwind_j4);
+                                         found4, shortcut, first_best4, shd_false4, unwind_j4);
         j_box_false5 <= nearest_hit_next(stay4, 1'b0, NONE, 1'b1, pln_first4, ctx4,
-                                         found4, shortcut, cut_best4, shd_false4, unwind_j4);
+                                         found4, shortcut, first_best4, shd_false4, unwind_j4);
         // offer: the first hit stays in the search; a later one is compared.
         j_offer5     <= found4 ? with_st(stay4, `ISA_ST_HIT_CMP)
                                : nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
-                                                  1'b1, shortcut, cut_this4, shd_false4, unwind_j4);
-        j_shd_true5  <= shade_next(S_DIFFUSE, 1'b0, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
+                                                  1'b1, shortcut, first_this4, shd_false4, unwind_j4);
+        j_shd_true5  <= shade_next(S_DIFFUSE, 1'b0, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
         j_shd_false5 <= shd_false4;
         j_nh_kept5   <= nearest_hit_next(stay4, 1'b0, after_sph4, in_sph4, after_pln4, ctx4,
-                                         found4, shortcut, cut_this4, shd_false4, unwind_j4);
+                                         found4, shortcut, first_this4, shd_false4, unwind_j4);
         j_nh_start5  <= nearest_hit_next(stay4, bbox, sph_first4, 1'b1, pln_first4, C_HIT,
-                                         1'b0, shortcut, cut_best4, shd_false4, unwind_j4);
-        j_diff_lit5  <= shade_next(S_REFLECT, 1'b1, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
-        j_diff_dark5 <= shade_next(S_REFLECT, 1'b0, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
-        j_spec_none5 <= shade_next(S_LOCAL, face4, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
-        j_sh_diff5   <= shade_next(S_REFLECT, face4, 1'b1, spec4, obj_bits4, push4, stay4, unwind_j4);
-        j_sh_refl5   <= shade_next(S_SPECULAR, face4, diff4, spec4, obj_bits4, push4, stay4, unwind_j4);
-        j_sh_spec5   <= shade_next(S_LOCAL, face4, diff4, 1'b1, obj_bits4, push4, stay4, unwind_j4);
+                                         1'b0, shortcut, first_best4, shd_false4, unwind_j4);
+        j_diff_lit5  <= shade_next(S_REFLECT, 1'b1, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
+        j_diff_dark5 <= shade_next(S_REFLECT, 1'b0, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
+        j_spec_none5 <= shade_next(S_LOCAL, face4, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
+        j_sh_diff5   <= shade_next(S_REFLECT, face4, 1'b1, spec4, obj_bits4, push4, stay4, shade_end4);
+        j_sh_refl5   <= shade_next(S_SPECULAR, face4, diff4, spec4, obj_bits4, push4, stay4, shade_end4);
+        j_sh_spec5   <= shade_next(S_LOCAL, face4, diff4, 1'b1, obj_bits4, push4, stay4, shade_end4);
         j_unwind5    <= unwind_j4;
         j_prn_first5 <= with_prn(stay4, prn_first4[0 +: SW + CALLW]);
         j_prn_after5 <= with_prn(stay4, prn_after4[0 +: SW + CALLW]);
-        j_pop_add5   <= with_st_sp(stay4, uw_add4);
-        j_pop_mov5   <= with_st_sp(stay4, uw_mov4);
-        j_colour5    <= with_st_sp(stay4, uw_col4);
+        j_pop_add5   <= uj_jump(uw_add4, call4);
+        j_pop_mov5   <= uj_jump(uw_mov4, call4);
+        j_colour5    <= uj_jump(uw_col4, call4);
         j_sph_v5     <= with_object(stay4, `ISA_ST_SPH_V, K_SPH, sph_first4[OW-1:0]);
         j_plane5     <= with_object(stay4, `ISA_ST_ISECT_1, K_PLN, {OW{1'b0}});
         j_offset5    <= with_st_sp(stay4, {ST_SH_POINT, sp_offset4});
         j_dot_sph5   <= with_call(stay4, `ISA_ST_DOT_1, D_SPHERE);
         j_dot_light5 <= with_call(stay4, `ISA_ST_DOT_1, D_LIGHT);
+        j_dot_rf_in5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_IN);
+        j_dot_chord5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_CHORD);
+        j_dot_rf_out5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_OUT);
     end
     wire unused_next4 = ^{sph_next4[OW], pln_next4[OW]};
 
@@ -1273,7 +1454,7 @@ module fast_ctrl #(
     // P3: the candidates: their jumps selected
     // ------------------------------------------------------------------------
     function [JW-1:0] jump_of(input [JSW-1:0] src, input [SW-1:0] nst, input [JW-1:0] stay_j,
-                              input [25*JW-1:0] js);
+                              input [28*JW-1:0] js);
         begin
             case (src)
                 J_NEXT:  jump_of = with_st(stay_j, nst);
@@ -1281,7 +1462,7 @@ module fast_ctrl #(
             endcase
         end
     endfunction
-    wire [25*JW-1:0] jumps5 = {j_dot_light5, j_dot_sph5, j_offset5, j_plane5, j_sph_v5, j_colour5,
+    wire [28*JW-1:0] jumps5 = {j_dot_rf_out5, j_dot_chord5, j_dot_rf_in5, j_dot_light5, j_dot_sph5, j_offset5, j_plane5, j_sph_v5, j_colour5,
                                j_pop_mov5, j_pop_add5, j_prn_after5, j_prn_first5, j_unwind5,
                                j_sh_spec5, j_sh_refl5, j_sh_diff5, j_spec_none5, j_diff_dark5,
                                j_diff_lit5, j_nh_start5, j_nh_kept5, j_shd_false5, j_shd_true5,
@@ -1332,8 +1513,8 @@ module fast_ctrl #(
     always @(posedge clk) begin
         a0_d    <= a0_e;
         a1_d    <= a1_e;
-        plan0_d <= with_variant(plan0_e, a0_e[J_CALL +: CALLW], a0_e[S_ROT +: RAW]);
-        plan1_d <= with_variant(plan1_e, a1_e[J_CALL +: CALLW], a1_e[S_ROT +: RAW]);
+        plan0_d <= with_variant(plan0_e, a0_e[J_CALL +: CALLW], a0_e[S_ROT +: RAW], a0_e[S_RFNEG]);
+        plan1_d <= with_variant(plan1_e, a1_e[J_CALL +: CALLW], a1_e[S_ROT +: RAW], a1_e[S_RFNEG]);
         opd0_d  <= operands(a0_e);
         opd1_d  <= operands(a1_e);
         code_d  <= code_e;
@@ -1470,13 +1651,16 @@ module fast_ctrl #(
 `endif
 
     // Static checks: the round trip fits the ring; the address placements
-    // above hold for isa.vh's layout.
+    // above hold for isa.vh's layout; the operand codes fill their fields
+    // (micro_op's a_of and b_of).
     localparam integer SPH_LAST = `ISA_REG_SPH0_C + (SPH_N - 1) * `ISA_DIM_SPH_STRIDE;
     localparam integer PLN_LAST = `ISA_REG_PLN0_N + (PLN_N - 1) * `ISA_DIM_PLN_STRIDE;
     generate
         if (`ISA_DIM_SPH_STRIDE != 4 || `ISA_DIM_PLN_STRIDE != 4 || (`ISA_REG_SPH0_C % 32) != 0 ||
             (`ISA_REG_PLN0_N % 32) != 0 || SPH_LAST >= `ISA_REG_SPH0_C + 32 ||
-            PLN_LAST >= `ISA_REG_PLN0_N + 32) begin : g_layout_not_placeable
+            PLN_LAST >= `ISA_REG_PLN0_N + 32 || `ISA_DIM_TRN_STRIDE != 1 ||
+            (`ISA_REG_TRN0 % (1 << OW)) != 0 || `ISA_DIM_TRN_COUNT > (1 << OW) ||
+            A_N != (1 << SELW) || B_N != (1 << SELW)) begin : g_layout_not_placeable
             isa_layout_breaks_fast_ctrl_address_placement u_error ();
         end
     endgenerate
