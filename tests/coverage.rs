@@ -50,6 +50,7 @@ fn the_transition_table_was_proved_on_todays_controller() {
         "rtl/cover/pp_ctrl.transitions was made from another rtl/pp/pp_ctrl.v (now `{now}`): \
          run rtl/cover/transitions.sh and commit the new table"
     );
+    assert_on_todays_shared_functions(&text, "rtl/cover/pp_ctrl.transitions");
     // Every pair names two states of the ISA, once.
     for (a, b) in &pairs {
         assert!(
@@ -80,6 +81,17 @@ fn the_transition_table_was_proved_on_todays_controller() {
     assert_eq!(from_done, [&("PIX_DONE".to_string(), "IDLE".to_string())]);
 }
 
+/// Asserts that `text` (the file `what`) names today's
+/// `rtl/pp/ctrl_flow.vh`, the functions both controllers include.
+fn assert_on_todays_shared_functions(text: &str, what: &str) {
+    let now = hash_line("rtl/pp/ctrl_flow.vh");
+    assert!(
+        text.lines().any(|l| l == now),
+        "{what} was made on another rtl/pp/ctrl_flow.vh (now `{now}`): re-derive or re-argue \
+         it against the controllers' shared functions and update the hash"
+    );
+}
+
 /// The `# pp_ctrl.v fnv1a64 ...` line of today's controller.
 fn ctrl_hash_line() -> String {
     hash_line("rtl/pp/pp_ctrl.v")
@@ -106,6 +118,7 @@ fn the_fast_controllers_own_transitions_were_argued_on_todays_fast_controller() 
         "rtl/cover/fast_ctrl.transitions was argued on another rtl/fast/fast_ctrl.v (now \
          `{now}`): re-read its argument against the new controller and update the hash"
     );
+    assert_on_todays_shared_functions(&text, "rtl/cover/fast_ctrl.transitions");
     // Its pairs are the ring's own: none is in the compact table; a done
     // turn that takes a pixel is among them.
     let (_, compact) = table();
@@ -130,6 +143,7 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
          against the new controller and update the hash",
         path.display()
     );
+    assert_on_todays_shared_functions(&text, &path.display().to_string());
     // The fast controller's own list: argued on today's fast_ctrl.v, its
     // groups' arguments in its header or the compact list's.
     let fast_path = root().join(rtcosim::output::coverage::FAST_UNREACHABLE_PATH);
@@ -141,6 +155,7 @@ fn the_transitions_argued_unreachable_are_argued_on_todays_controller() {
          against the new controller and update the hash",
         fast_path.display()
     );
+    assert_on_todays_shared_functions(&fast_text, &fast_path.display().to_string());
     let text = text + &fast_text;
     let (_, mut pairs) = table();
     pairs.extend(fast_table());

@@ -137,21 +137,17 @@ fn sampled_pixels_of_every_builtin_scene_agree_under_icarus() {
     assert_same(&runs);
 }
 
-/// The documented glass scenes (docs/glass) on the compact processor:
+/// The glass scenes on the compact processor, through their glass:
 /// refraction's states mean the same under Icarus.
 #[test]
 fn glass_scenes_agree_under_icarus() {
     if !icarus_present("glass_scenes_agree_under_icarus") {
         return;
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/glass");
     let runs: Vec<_> = ["glass_room", "bubble", "touching"]
         .iter()
         .map(|name| {
-            let scene = Scene::load(&dir.join(format!("{name}.toml")))
-                .expect("a documented scene")
-                .resized(80, 60, "test")
-                .expect("smaller");
+            let scene = builtin(name, 80, 60);
             // Through the glass (x 32..51, y 26..45 of 80x60) and around it.
             let pixels = (24..48)
                 .step_by(2)
@@ -558,7 +554,8 @@ fn fast_alu_agrees_with_golden_under_icarus() {
 /// 40x30: 48 pixels of the reference scene across its spheres (59 to 231
 /// writes a pixel), and 40 of overexposed, the heaviest part of the mirror
 /// scene (122 to 299 writes a pixel), every pixel through the exposure's
-/// EXP. The checkers fail: a fault planted through the fault port (lane x
+/// EXP, and 64 of glass_room through its glass sphere (refraction's
+/// states). The checkers fail: a fault planted through the fault port (lane x
 /// of every PRI_HALF write flipped) is a divergence of every pixel at that
 /// write (and changes their colours), and a barrel of 31 contexts predicts
 /// other cycles. The runs go in parallel: Icarus runs this design at under
@@ -575,6 +572,8 @@ fn fast_processor_agrees_with_golden_under_icarus() {
     let cases = [
         ("reference", window(8, 10, 12, 4), None),
         ("overexposed", window(12, 15, 8, 5), None),
+        // through the glass sphere (x 16..25, y 13..22 of 40x30)
+        ("glass_room", window(16, 14, 8, 8), None),
         (
             "reference",
             window(8, 6, 4, 1),
@@ -640,6 +639,22 @@ fn fast_processor_agrees_with_golden_under_icarus() {
         }
         if *name == "overexposed" {
             assert!(scene.render.exposure.is_some() && exp_pixels == pixels.len());
+        }
+        if *name == "glass_room" {
+            // Most of the window sees the glass: its pixels refract.
+            let refracting = pixels
+                .iter()
+                .filter(|&&(x, y)| {
+                    let mut rf = false;
+                    golden.render_pixel(x, y, |e, _| rf |= e.state == state::RF_NSUB);
+                    rf
+                })
+                .count();
+            assert!(
+                refracting * 2 > pixels.len(),
+                "{refracting} of {} pixels refract",
+                pixels.len()
+            );
         }
         if !bad.is_empty() {
             failures.push(format!(

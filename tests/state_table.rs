@@ -157,21 +157,16 @@ fn every_golden_event_comes_from_where_the_table_says() {
     let mut wrong: BTreeMap<(String, String), FirstSeen> = BTreeMap::new();
     let mut fn_of_line: HashMap<u32, String> = HashMap::new();
     let mut events = 0u64;
-    // The builtins, and the mirror scene with a weight cutoff that refuses
-    // its deepest reflections (CUT_W, CUT_CMP run only with a cutoff).
+    // The builtins (the glass ones among them), the mirror scene with a
+    // weight cutoff that refuses its deepest reflections (CUT_W, CUT_CMP
+    // run only with a cutoff), and the touching glass spheres with one
+    // that refuses some refracted children (RF_CUT_W, RF_CUT_CMP).
     let mut scenes: Vec<(&str, Scene)> = Scene::builtin_names()
         .iter()
         .map(|&name| (name, reduced(name)))
         .collect();
     scenes.push(("mirror with a cutoff", common::mirror_with_cutoff()));
-    // The refraction scenes (docs/glass), one with a cutoff that refuses
-    // some refracted children (RF_CUT_W, RF_CUT_CMP).
-    for name in ["glass_room", "bubble", "touching"] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/glass/{name}.toml"));
-        let scene = Scene::load(&path).expect("a documented glass scene");
-        scenes.push((name, scene.resized(80, 60, "test").expect("smaller")));
-    }
-    let touching = &scenes.last().expect("pushed").1;
+    let touching = reduced("touching");
     let mut render = touching.render;
     render.weight_cutoff = 0.05;
     let cut = touching.with_render(render, "test").expect("a cutoff");

@@ -265,12 +265,14 @@ fn what_refraction_cannot_mean_is_refused_by_name() {
         .expect("an opaque sphere in the floor");
 }
 
-/// The documented glass scene `name` at 200x150.
-fn documented(name: &str) -> Scene {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/glass");
-    Scene::load(&dir.join(format!("{name}.toml")))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .resized(200, 150, "test")
+/// The builtin glass scenes.
+const GLASS: [&str; 3] = ["glass_room", "bubble", "touching"];
+
+/// The builtin glass scene `name` at `width` x `height`.
+fn glass(name: &str, width: u32, height: u32) -> Scene {
+    Scene::builtin(name)
+        .unwrap_or_else(|| panic!("{name} is a builtin"))
+        .resized(width, height, "test")
         .expect("smaller")
 }
 
@@ -281,8 +283,8 @@ fn the_micro_op_model_follows_the_reference_through_glass() {
     // refracted child's subtree reuses must not keep the colour bit of the
     // reflected subtree before it: with that bug, 532, 152 and 1,528 pixels
     // differed here.
-    for name in ["glass_room", "bubble", "touching"] {
-        let scene = documented(name);
+    for name in GLASS {
+        let scene = glass(name, 200, 150);
         let r = reference::render(&scene, &|_| {});
         let (m, stats) = golden::micro::render(&scene, &|_| {});
         let differing = r
@@ -309,14 +311,9 @@ fn opaque(scene: &Scene) -> Scene {
 }
 
 #[test]
-fn the_documented_glass_scenes_differ_from_opaque_only_through_the_glass() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/glass");
-    for name in ["glass_room", "bubble", "touching"] {
-        let path = dir.join(format!("{name}.toml"));
-        let glass = Scene::load(&path)
-            .unwrap_or_else(|e| panic!("{e}"))
-            .resized(160, 120, "test")
-            .expect("smaller");
+fn the_glass_scenes_differ_from_opaque_only_through_the_glass() {
+    for name in GLASS {
+        let glass = glass(name, 160, 120);
         let plain = opaque(&glass);
         let (a, b) = (
             reference::render(&glass, &|_| {}),

@@ -12,7 +12,7 @@
 //
 // The ring. The contexts take turns in a fixed rotation: cycle t is the
 // turn of context t mod K (K = 2^CTX_BITS). A context's whole state (st,
-// sp, call, the search and shading registers: the 54 bits of S) travels
+// sp, call, the search and shading registers: the 90 bits of S) travels
 // round a ring of K register positions, so position p holds the context
 // whose turn was p cycles ago; nothing is indexed by context and nothing is
 // read twice. At position 0 (the issue register) the context's micro-op
@@ -227,7 +227,11 @@ module fast_ctrl #(
 
     wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
 
-    // bits, shade_next, nearest_hit_next, primary_ray_next (pp_ctrl's: one text).
+    // ------------------------------------------------------------------------
+    // Pure functions of the control flow: pp_ctrl's four, one text with it
+    // (bits, shade_next, nearest_hit_next, primary_ray_next), then the
+    // ring's own
+    // ------------------------------------------------------------------------
     `include "ctrl_flow.vh"
 
     // Bit k set for every object k > i: the loops' next candidates (a

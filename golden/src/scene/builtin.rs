@@ -13,6 +13,9 @@ const BUILTINS: &[(&str, &str)] = &[
     ),
     ("box_room", include_str!("../../scenes/box_room.toml")),
     ("overexposed", include_str!("../../scenes/overexposed.toml")),
+    ("glass_room", include_str!("../../scenes/glass_room.toml")),
+    ("bubble", include_str!("../../scenes/bubble.toml")),
+    ("touching", include_str!("../../scenes/touching.toml")),
 ];
 
 /// The names of [`BUILTINS`], in its order.

@@ -7,7 +7,9 @@
 //!
 //! What it varies: 0 to 8 spheres and 0 to 6 planes (so, now and then, no
 //! object at all), materials, colours, the light and the camera, the stack
-//! depth, both float methods, each speed-up, the weight cutoff, the exposure. Magnitudes span the whole
+//! depth, both float methods, each speed-up, the weight cutoff, the
+//! exposure, glass (a sphere's transmission and index of refraction: near
+//! 1, below 1 where total internal reflection begins, up to 4). Magnitudes span the whole
 //! accepted range: a scene has a scale anywhere from 2^-58 to 2^58 (most
 //! often a familiar one), and any value may instead sit exactly on a limit
 //! of `golden::scene` or just past it. A scene with a value past a limit is
@@ -16,8 +18,8 @@
 //! campaign runs.
 
 use golden::scene::{
-    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
-    MIN_DISTANCE, MIN_RADIUS,
+    MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IOR, MAX_PLANES, MAX_RADIUS, MAX_SPHERES,
+    MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -154,6 +156,33 @@ impl Gen {
         );
     }
 
+    /// A sphere's glass: its transmission (as any unit value) and its index
+    /// relative to the outside, where refraction is delicate: 1 or within
+    /// 2^-10 of it, below 1 (total internal reflection past asin(ior)),
+    /// familiar glass, up to 4; now and then exactly on a limit or just
+    /// past one.
+    fn glass(&mut self, out: &mut String) {
+        let kt = self.unit();
+        let ior = if self.chance(0.01) {
+            self.past = true;
+            if self.chance(0.5) {
+                f32_down(MIN_IOR)
+            } else {
+                f32_up(MAX_IOR)
+            }
+        } else {
+            match self.rng.random_range(0..6) {
+                0 => 1.0,
+                1 => 1.0 + self.uniform(-1.0, 1.0) * 2f64.powi(-10),
+                2 => self.uniform(f64::from(MIN_IOR), 1.0),
+                3 => self.uniform(1.0, 2.5),
+                4 => self.uniform(2.5, f64::from(MAX_IOR)),
+                _ => f64::from(if self.chance(0.5) { MIN_IOR } else { MAX_IOR }),
+            }
+        };
+        let _ = writeln!(out, "transmission = {}\nior = {}", num(kt), num(ior));
+    }
+
     /// A count in `0..=max`, rarely one past it.
     fn count(&mut self, max: usize) -> usize {
         if self.chance(0.005) {
@@ -218,14 +247,23 @@ pub fn scene(seed: u64, index: u64) -> Generated {
 
     let spheres = g.count(MAX_SPHERES);
     let planes = g.count(MAX_PLANES);
+    // Each sphere's text, finished after the last draw (its glass).
+    let mut sphere_text = Vec::new();
     for _ in 0..spheres {
         let centre = g.point([0.0, 0.0, 0.0], 1.5);
         let typical = g.scale * g.uniform(-5.0, 0.0).exp2();
         let radius = g.magnitude(MIN_RADIUS, MAX_RADIUS, typical);
-        let _ = writeln!(t, "[[sphere]]\ncenter = {centre}\nradius = {}", num(radius));
-        g.material(&mut t);
-        t.push('\n');
+        let mut st = String::new();
+        let _ = writeln!(
+            st,
+            "[[sphere]]\ncenter = {centre}\nradius = {}",
+            num(radius)
+        );
+        g.material(&mut st);
+        sphere_text.push(st);
     }
+    // The camera and the light; the planes and render settings follow in `t`.
+    let head = std::mem::take(&mut t);
     for _ in 0..planes {
         let axis = ["x", "y", "z"][g.rng.random_range(0..3)];
         let facing = if g.chance(0.5) { "+" } else { "-" };
@@ -309,6 +347,24 @@ pub fn scene(seed: u64, index: u64) -> Generated {
         };
         let _ = writeln!(t, "exposure = {}", num(exposure));
     }
+    // Glass (drawn last, for the same reason): in a quarter of the scenes,
+    // one sphere (now and then each) transparent.
+    if spheres > 0 && g.chance(0.25) {
+        let one = g.rng.random_range(0..spheres);
+        let each = g.chance(0.2);
+        for (i, st) in sphere_text.iter_mut().enumerate() {
+            if i == one || each {
+                g.glass(st);
+            }
+        }
+    }
+    // The spheres go in before the planes and the render settings.
+    let rest = std::mem::replace(&mut t, head);
+    for st in &sphere_text {
+        t.push_str(st);
+        t.push('\n');
+    }
+    t.push_str(&rest);
     Generated {
         seed,
         index,
@@ -343,6 +399,46 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn glass_is_drawn_and_mostly_accepted() {
+        // Glass in about a quarter of the scenes with a sphere; most of
+        // those inside the limits load (a transparent sphere that another
+        // object cuts into, or that holds the eye or the light, is refused
+        // by name), and indices below 1 (total internal reflection) occur.
+        let (mut with_spheres, mut glass, mut inside, mut accepted, mut below_1) = (0, 0, 0, 0, 0);
+        for i in 0..2000 {
+            let g = scene(5, i);
+            if !g.toml.contains("[[sphere]]") {
+                continue;
+            }
+            with_spheres += 1;
+            if !g.toml.contains("transmission = ") {
+                continue;
+            }
+            glass += 1;
+            below_1 += usize::from(g.toml.contains("ior = 0."));
+            if g.in_limits {
+                inside += 1;
+                match Scene::from_toml(&g.toml, "fuzz.toml") {
+                    Ok(_) => accepted += 1,
+                    Err(e) => assert!(
+                        e.to_string().contains("transparent") || !e.to_string().contains("ior"),
+                        "scene {i}: {e}"
+                    ),
+                }
+            }
+        }
+        assert!(
+            (with_spheres / 6..with_spheres / 3).contains(&glass),
+            "{glass} of {with_spheres} with glass"
+        );
+        assert!(
+            accepted * 2 > inside,
+            "{accepted} of {inside} glass scenes accepted"
+        );
+        assert!(below_1 > 20, "{below_1} with an index below 1");
     }
 
     #[test]

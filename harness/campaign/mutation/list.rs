@@ -144,8 +144,39 @@ impl List {
     /// `processor`'s committed list and classification.
     pub fn committed(processor: ProcessorKind) -> Result<List, ListError> {
         let files = Files::of(processor);
-        let mut list = List::parse(files, files.list_text)?;
-        list.classified = parse_classification(files.survivors_path, files.survivors_text)?;
+        List::read(files, files.list_text, files.survivors_text)
+    }
+
+    /// The list `list_text` of `files` and its classification
+    /// `survivors_text`, which must name the list's RTL hash.
+    pub(super) fn read(
+        files: Files,
+        list_text: &str,
+        survivors_text: &str,
+    ) -> Result<List, ListError> {
+        let mut list = List::parse(files, list_text)?;
+        // A classification names the list it classifies by the list's RTL
+        // hash: its IDs mean other mutants in another list.
+        let classified_on = survivors_text
+            .lines()
+            .find_map(|l| l.strip_prefix("# rtl fnv1a64 "))
+            .map(str::trim);
+        if classified_on != Some(list.rtl_hash.as_str()) {
+            return Err(ListError {
+                path: files.survivors_path,
+                line: 0,
+                message: format!(
+                    "it classifies the survivors of the list with {}, and {} is the list \
+                     with rtl fnv1a64 {}: classify the new list's survivors (docs/mutation.md)",
+                    classified_on.map_or("no `# rtl fnv1a64 HASH` line".to_string(), |h| {
+                        format!("rtl fnv1a64 {h}")
+                    }),
+                    files.list_path,
+                    list.rtl_hash
+                ),
+            });
+        }
+        list.classified = parse_classification(files.survivors_path, survivors_text)?;
         if let Some(&id) = list.classified.keys().find(|&&id| list.get(id).is_none()) {
             return Err(ListError {
                 path: files.survivors_path,

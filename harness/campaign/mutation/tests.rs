@@ -33,6 +33,30 @@ fn a_classification_reads_or_names_the_bad_line() {
 }
 
 #[test]
+fn a_classification_of_another_list_is_refused() {
+    // Its IDs would name other mutants: the survivors' file names the
+    // list's RTL hash, or the list is refused with it.
+    let files = Files::of(ProcessorKind::Compact);
+    let hash = List::parse(files, files.list_text).expect("reads").rtl_hash;
+    for (survivors, says) in [
+        (
+            "# rtl fnv1a64 0123456789abcdef\n".to_string(),
+            "rtl fnv1a64 0123456789abcdef",
+        ),
+        ("# no hash\n".to_string(), "no `# rtl fnv1a64 HASH` line"),
+    ] {
+        let e = List::read(files, files.list_text, &survivors)
+            .expect_err(&survivors)
+            .to_string();
+        assert!(
+            e.starts_with(files.survivors_path) && e.contains(says) && e.contains(&hash),
+            "{e}"
+        );
+    }
+    List::read(files, files.list_text, &format!("# rtl fnv1a64 {hash}\n")).expect("its own");
+}
+
+#[test]
 fn module_names_lose_their_parameters() {
     assert_eq!(module_name("$paramod$dc0217be\\fp_lzc"), "fp_lzc");
     assert_eq!(
