@@ -35,16 +35,19 @@ const FAST_LIST: &str = "rtl/mutate/fast_pp.mutants";
 /// Mutants of the smoke list a bug would be, and what they break:
 /// each must make some pixel differ from golden.
 const KILLED: &[(u16, &str)] = &[
-    (23, "fp_add.v:60, a comparison's result inverted"),
-    (21, "fp_mul.v:79, inverted"),
-    (22, "alu_ctrl.v:76, a case select inverted"),
-    (26, "alu.v:99, a mux select forced to 1"),
-    (40, "memory.v:78, inverted"),
-    (10, "pp_ctrl.v:599, inverted"),
+    (41, "fp_add.v:124, a mux input's bit flipped by its control"),
+    (9, "fp_mul.v:45, the product's sign inverted"),
+    (
+        104,
+        "alu_ctrl.v:45, the register-file write enable flipped by another output bit",
+    ),
+    (38, "alu.v:290, a result bit inverted"),
+    (51, "memory.v:87, a stack write's select inverted"),
+    (10, "pp_ctrl.v:824, inverted"),
 ];
-/// A mutant Yosys proves equivalent: pp_ctrl.v:503 `cut ? ISA_ST_CUT_W :
-/// ISA_ST_SH_OFFSET` with bit 0 of the second operand, already 0, forced to 0.
-const EQUIVALENT: u16 = 4;
+/// A mutant Yosys proves equivalent: pp_ctrl.v:1025, SH_COLOUR's next
+/// state with bit 8 forced to 0 (no state id reaches 256).
+const EQUIVALENT: u16 = 243;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

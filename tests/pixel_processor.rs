@@ -109,6 +109,26 @@ fn box_room_frame_agrees() {
     frame_agrees("box_room", 40, 30);
 }
 
+/// Refraction through the RTL: the glass scenes agree in every event,
+/// colour and cycle with every method pair, and their pixels refract.
+#[test]
+fn glass_frames_agree() {
+    for name in ["glass_room", "bubble", "touching"] {
+        frame_agrees(name, 80, 60);
+        let scene = builtin(name, 80, 60);
+        let report = common::run_compact(&scene, Window::full(&scene), &CosimOptions::default())
+            .expect("runs");
+        assert!(report.compare.states.contains(state::RF_NSUB), "{name}");
+        assert!(report.compare.states.contains(state::RF_CHILD_W), "{name}");
+        // The bubble's rim reflects totally.
+        assert_eq!(
+            report.compare.states.contains(state::RF_TIR),
+            name == "bubble",
+            "{name}"
+        );
+    }
+}
+
 /// The exposure (thesis 3.7) through the RTL: the overexposed scene (colours
 /// up to about 4.4 before it) agrees with golden in every event, colour
 /// and cycle with both method pairs (frame_agrees), including the three
@@ -209,6 +229,9 @@ fn every_builtin_scene_has_a_frame_test() {
         "parallel_plane",
         "box_room",
         "overexposed",
+        "glass_room",
+        "bubble",
+        "touching",
     ];
     for name in Scene::builtin_names() {
         assert!(tested.contains(name), "no frame test for builtin {name}");

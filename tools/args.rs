@@ -17,7 +17,8 @@ use std::path::Path;
 #[derive(clap::Args, Debug, Clone, PartialEq, Eq)]
 pub struct SceneArgs {
     /// A scene file (TOML), or the name of a builtin scene: reference,
-    /// mirror, grazing, light_touch, parallel_plane, box_room, overexposed.
+    /// mirror, grazing, light_touch, parallel_plane, box_room, overexposed,
+    /// glass_room, bubble, touching.
     #[arg(long, default_value = "reference")]
     pub scene: String,
     /// Image size WxH instead of the scene's; the image-plane distance

@@ -282,15 +282,19 @@ module fast_ctrl #(
         end
     endfunction
 
-    // Stack levels: the bit of level l; levels 0..l; the level below l.
+    // Stack levels, as masks of l's bits (no adder: an l - 1 or l + 1 would
+    // put a carry chain before the decode): the bit of level l; levels
+    // 0..l; levels below l. The level below l is level_bit(l) >> 1 and the
+    // level above level_bit(l) << 1, for l >= 1 and l < STK_N - 1: where a
+    // pop, a child or its parent is, they are.
     function [STK_N-1:0] level_bit(input [SPW-1:0] l);
         level_bit = {{(STK_N - 1){1'b0}}, 1'b1} << l;
     endfunction
     function [STK_N-1:0] at_or_below(input [SPW-1:0] l);
         at_or_below = ~(({STK_N{1'b1}} << l) << 1);
     endfunction
-    function [SPW-1:0] below_level(input [SPW-1:0] l);
-        below_level = l - 1'b1;
+    function [STK_N-1:0] levels_below(input [SPW-1:0] l);
+        levels_below = ~({STK_N{1'b1}} << l);
     endfunction
 
     // unwind (pp_ctrl), in three steps. m: the levels at or below `from`
@@ -766,7 +770,7 @@ module fast_ctrl #(
     wire [STK_N*OW-1:0] pidx1 = s1[S_PIDX +: STK_N * OW];
     wire             child1 = s1[S_PUSH] || s1[S_REFR];
     wire [OBJ_N-1:0] gt1    = above(s1[J_IDX +: OW]);
-    wire [STK_N-1:0] below1      = level_bit(below_level(sp1));
+    wire [STK_N-1:0] below1      = level_bit(sp1) >> 1;
     wire [STK_N-1:0] col_mov1    = col1 | below1;
     wire [STK_N-1:0] col_colour1 = col1 | level_bit(sp1);
     // SH_CHILD_W: the parent's level owes the refracted child (refr) on
@@ -830,18 +834,18 @@ module fast_ctrl #(
         room2           <= room_at_q[sp1];
         sp_inc2         <= sp1 + 1'b1;
         uw_m_now2       <= (col1 | (pend_now1 << 1)) & at_or_below(sp1);
-        uw_m_add2       <= (col1 & at_or_below(below_level(sp1))) | ((pend1 << 1) & at_or_below(sp1));
-        uw_m_mov2       <= (col_mov1 & at_or_below(below_level(sp1))) | ((pend1 << 1) & at_or_below(sp1));
+        uw_m_add2       <= (col1 & levels_below(sp1)) | ((pend1 << 1) & at_or_below(sp1));
+        uw_m_mov2       <= (col_mov1 & levels_below(sp1)) | ((pend1 << 1) & at_or_below(sp1));
         uw_m_col2       <= (col_colour1 | (pend1 << 1)) & at_or_below(sp1);
         uw_c_now2       <= col1;
-        uw_c_add2       <= col1 & at_or_below(below_level(sp1));
-        uw_c_mov2       <= col_mov1 & at_or_below(below_level(sp1));
+        uw_c_add2       <= col1 & levels_below(sp1);
+        uw_c_mov2       <= col_mov1 & levels_below(sp1);
         uw_c_col2       <= col_colour1;
         uw_p_now2       <= pidx_now1;
         uw_p2           <= pidx1;
         col_shade2      <= child1 ? col_mov1 : col_colour1;
         col_mov2        <= col_mov1;
-        col_push2       <= col1 & ~level_bit(sp1 + 1'b1);
+        col_push2       <= col1 & ~(level_bit(sp1) << 1);
         col_nsub2       <= col1 & ~level_bit(sp1);
         pend_nsub2      <= pend1 & ~below1;
         pend_cw2        <= pend_cw1;
@@ -1457,13 +1461,15 @@ module fast_ctrl #(
     // ------------------------------------------------------------------------
     // P3: the candidates: their jumps selected
     // ------------------------------------------------------------------------
+    // An AND-OR over the codes: indexing js by JW * src would put an adder
+    // in the path.
     function [JW-1:0] jump_of(input [JSW-1:0] src, input [SW-1:0] nst, input [JW-1:0] stay_j,
                               input [28*JW-1:0] js);
+        integer k;
         begin
-            case (src)
-                J_NEXT:  jump_of = with_st(stay_j, nst);
-                default: jump_of = js[JW*src +: JW];
-            endcase
+            jump_of = src == J_NEXT ? with_st(stay_j, nst) : {JW{1'b0}};
+            for (k = 1; k < 28; k = k + 1)
+                jump_of = jump_of | ({JW{src == k[JSW-1:0]}} & js[JW*k +: JW]);
         end
     endfunction
     wire [28*JW-1:0] jumps5 = {j_dot_rf_out5, j_dot_chord5, j_dot_rf_in5, j_dot_light5, j_dot_sph5, j_offset5, j_plane5, j_sph_v5, j_colour5,

@@ -418,7 +418,11 @@ mod tests {
                 continue;
             }
             glass += 1;
-            below_1 += usize::from(g.toml.contains("ior = 0."));
+            below_1 += usize::from(g.toml.lines().any(|l| {
+                l.strip_prefix("ior = ")
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .is_some_and(|v| v < 1.0)
+            }));
             if g.in_limits {
                 inside += 1;
                 match Scene::from_toml(&g.toml, "fuzz.toml") {
@@ -443,10 +447,15 @@ mod tests {
 
     #[test]
     fn past_the_limits_is_refused_and_inside_mostly_accepted() {
+        // Scenes without glass (glass_is_drawn_and_mostly_accepted has the
+        // others: a transparent sphere adds refusals of its own).
         let (mut inside, mut accepted) = (0, 0);
         for i in 0..2000 {
             let g = scene(3, i);
             let ok = Scene::from_toml(&g.toml, "fuzz.toml").is_ok();
+            if g.in_limits && g.toml.contains("transmission = ") {
+                continue;
+            }
             if g.in_limits {
                 inside += 1;
                 accepted += u32::from(ok);
@@ -454,7 +463,10 @@ mod tests {
                 assert!(!ok, "scene {i} is past a limit but accepted:\n{}", g.toml);
             }
         }
-        assert!(inside > 1500, "{inside} of 2000 inside the limits");
+        assert!(
+            inside > 1200,
+            "{inside} of 2000 inside the limits, without glass"
+        );
         assert!(
             f64::from(accepted) >= 0.9 * f64::from(inside),
             "{accepted} of {inside} accepted"
