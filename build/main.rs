@@ -115,7 +115,7 @@ fn run() -> Result<(), String> {
         &[
             (
                 &dirs.pp.join("pp_ctrl.v"),
-                "case (st_q)",
+                "case (st_dec)",
                 "PP_CTRL_STATE_LINES",
             ),
             (

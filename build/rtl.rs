@@ -48,7 +48,7 @@ pub(crate) fn read_dim(path: &Path, name: &str) -> Result<u32, String> {
 
 /// Every `*.v` of `dirs`, sorted within each directory.
 /// Writes `$OUT_DIR/rtl_state_lines.rs`: for each controller, the line of
-/// every item of its `case` on the state (pp_ctrl's `case (st_q)`, the fast
+/// every item of its `case` on the state (pp_ctrl's `case (st_dec)`, the fast
 /// controller's `case (st)` in its `plan` function), by state name (the
 /// item's `` `ISA_ST_<NAME> `` labels), so that reports can name the
 /// Verilog line that decodes a state. A `case` that cannot be found is an

@@ -85,6 +85,7 @@ module top #(
     parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
     parameter integer FAST         = 0,   // 1: fast processors (rtl/fast/fast_pp.v)
     parameter integer EXPOSURE     = 1,   // FAST: 0 builds no exponential
+    parameter integer REFRACTION   = 1,   // 0: no refraction (scenes without transparent spheres only)
     parameter integer CTX_BITS     = 5,   // FAST: 2^CTX_BITS contexts a processor
     parameter integer ARB_GROUP    = 6    // FAST: processors per result group
 ) (
@@ -389,7 +390,8 @@ module top #(
                 pixel_processor #(
                     .RECIP_METHOD (RECIP_METHOD),
                     .SQRT_METHOD  (SQRT_METHOD),
-                    .STACK_DEPTH  (STACK_DEPTH)
+                    .STACK_DEPTH  (STACK_DEPTH),
+                    .REFRACTION   (REFRACTION)
                 ) u_pp (
                     .clk        (clk),
                     .rst_n      (rst_n),
@@ -434,6 +436,7 @@ module top #(
                     .SQRT_METHOD  (SQRT_METHOD),
                     .STACK_DEPTH  (STACK_DEPTH),
                     .EXPOSURE     (EXPOSURE),
+                    .REFRACTION   (REFRACTION),
                     .CTX_BITS     (CTX_BITS)
                 ) u_pp (
                     .clk         (clk),

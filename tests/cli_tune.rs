@@ -84,19 +84,29 @@ fn brute_force(scene: &Scene) -> Vec<Measured> {
                             rtcosim::campaign::sweep::frame_cycles(processor, &stats, &work);
                         // The build the scene runs on: without the
                         // exponential only if the scene has no exposure
-                        // and the table holds that build.
+                        // and the table holds that build; without
+                        // refraction only if it has no glass and the
+                        // table holds that build.
                         let want = Build {
                             processor,
                             recip,
                             sqrt,
                             stack_depth: 8,
                             exposure: s.render.exposure.is_some(),
+                            refraction: s.refracts(),
                         };
                         let cost = table
                             .cost(want)
                             .or_else(|_| {
                                 table.cost(Build {
                                     exposure: true,
+                                    ..want
+                                })
+                            })
+                            .or_else(|_| {
+                                table.cost(Build {
+                                    exposure: true,
+                                    refraction: true,
                                     ..want
                                 })
                             })
@@ -537,4 +547,45 @@ fn an_unreachable_target_exits_1_and_names_the_most_accurate() {
         "{}",
         both(&out)
     );
+}
+
+/// Glass is a knob: on a scene with glass tune tries every configuration
+/// with its glass refracting and opaque (every transmission 0, a build
+/// without refraction). A target the opaque glass meets gets the opaque
+/// glass and a build without refraction (fewer cycles, a smaller build);
+/// one it misses gets the refracting glass and a build with refraction,
+/// and the report says what the opaque glass would have cost in error.
+#[test]
+fn tune_draws_glass_opaque_when_its_refraction_adds_nothing_within_the_target() {
+    let run = |target: &str| {
+        rtcosim(&[
+            "tune",
+            "--scene",
+            "glass_room",
+            "--size",
+            "16x12",
+            "--max-error",
+            target,
+            "--processor",
+            "compact",
+        ])
+    };
+    let loose = run("255");
+    assert!(loose.status.success(), "{}", both(&loose));
+    let stdout = text(&loose.stdout);
+    assert!(stdout.contains("scene glass: opaque"), "{stdout}");
+    assert!(build_line(&stdout).contains(".REFRACTION(0)"), "{stdout}");
+    // 4 + 7 x 4 x 9 configurations, each with the glass as it is and opaque.
+    assert!(stdout.contains(" 512 configurations"), "{stdout}");
+
+    let tight = run("4");
+    assert!(tight.status.success(), "{}", both(&tight));
+    let stdout = text(&tight.stdout);
+    assert!(!stdout.contains("scene glass: opaque"), "{stdout}");
+    assert!(build_line(&stdout).contains(".REFRACTION(1)"), "{stdout}");
+    let opaque = stdout
+        .lines()
+        .find(|l| l.contains("the glass opaque (a build without refraction)"))
+        .unwrap_or_else(|| panic!("no opaque-glass neighbour\n{stdout}"));
+    assert!(opaque.ends_with("(misses the target)"), "{opaque}");
 }

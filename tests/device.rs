@@ -14,6 +14,7 @@ fn build(processor: ProcessorKind, exposure: bool) -> Build {
         sqrt: Method::Exact,
         stack_depth: 8,
         exposure,
+        refraction: false,
     }
 }
 
@@ -21,7 +22,7 @@ fn build(processor: ProcessorKind, exposure: bool) -> Build {
 fn entry(processor: &str, exposure: bool, extra: &str) -> String {
     format!(
         "[[build]]\nprocessor = \"{processor}\"\nrecip = \"exact\"\nsqrt = \"exact\"\n\
-         stack_depth = 8\nexposure = {exposure}\nluts = 10000\nlut_memory = 1500\n\
+         stack_depth = 8\nexposure = {exposure}\nrefraction = false\nluts = 10000\nlut_memory = 1500\n\
          flip_flops = 7000\ndsp48e1 = 24\nbram36 = 21\nfmax_mhz = 100.0\n{extra}\
          source.measured = \"rtl/synth/synth.sh xc6v fast-pp exact\"\n"
     )
@@ -137,6 +138,59 @@ fn the_table_prices_every_swept_build_and_interpolates_by_its_rule() {
                 assert_eq!(mixed.dsp48e1, exact.dsp48e1.max(fast.dsp48e1));
                 assert_eq!(mixed.bram36, exact.bram36.max(fast.bram36));
                 assert_eq!(mixed.fmax_mhz, exact.fmax_mhz.min(fast.fmax_mhz));
+            }
+        }
+    }
+    // With refraction every pair is priced: an interpolated entry is its
+    // pair's entry without refraction plus the exact pair's increment,
+    // resource by resource, at the lower of the two clocks.
+    for processor in [ProcessorKind::Compact, ProcessorKind::Fast] {
+        let exact = |refraction| {
+            t.cost(Build {
+                refraction,
+                ..build(processor, true)
+            })
+            .unwrap_or_else(|e| panic!("{e}"))
+        };
+        let (off, on) = (exact(false), exact(true));
+        assert!(matches!(on.source, Source::Measured(_)), "{}", on.build);
+        let step = |a: u32, b: u32, base: u32| i64::from(base) + i64::from(b) - i64::from(a);
+        for recip in Method::ALL {
+            for sqrt in Method::ALL {
+                let with = Build {
+                    recip,
+                    sqrt,
+                    refraction: true,
+                    ..build(processor, true)
+                };
+                let c = t.cost(with).unwrap_or_else(|e| panic!("{e}"));
+                if let Source::Interpolated(_) = c.source {
+                    let base = t
+                        .cost(Build {
+                            refraction: false,
+                            ..with
+                        })
+                        .unwrap_or_else(|e| panic!("{e}"));
+                    assert_eq!(
+                        i64::from(c.luts),
+                        step(off.luts, on.luts, base.luts),
+                        "{with}"
+                    );
+                    assert_eq!(
+                        i64::from(c.lut_memory),
+                        step(off.lut_memory, on.lut_memory, base.lut_memory)
+                    );
+                    assert_eq!(
+                        i64::from(c.flip_flops),
+                        step(off.flip_flops, on.flip_flops, base.flip_flops)
+                    );
+                    assert_eq!(
+                        i64::from(c.dsp48e1),
+                        step(off.dsp48e1, on.dsp48e1, base.dsp48e1)
+                    );
+                    assert_eq!(c.bram36, base.bram36 + on.bram36 - off.bram36);
+                    assert_eq!(c.fmax_mhz, base.fmax_mhz.min(on.fmax_mhz));
+                }
             }
         }
     }

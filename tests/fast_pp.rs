@@ -628,7 +628,7 @@ fn a_list_of_pixels_runs_on_the_fast_processor() {
     use rtcosim::output::device::Build;
     let scene = Scene::reference().resized(64, 48, "test").expect("resized");
     let (recip, sqrt) = (scene.render.recip, scene.render.sqrt);
-    let build = Build::for_scene(ProcessorKind::Fast, recip, sqrt, true);
+    let build = Build::for_scene(ProcessorKind::Fast, recip, sqrt, &scene);
     let fast = build.design().unwrap_or_else(|e| panic!("{e}"));
     // Every other pixel, backwards (out of row order): 1,536, two chunks.
     let pixels: Vec<(u32, u32)> = (0..64 * 48)

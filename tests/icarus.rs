@@ -23,7 +23,7 @@ use common::icarus::{
     compile, compile_fast_alu, compile_fast_pp, compile_fast_regfile, compile_fast_top,
     compile_fast_units, differences, fast_differences, fast_top_differences, icarus_present,
     pix_lines, run_fast_alu, run_fast_pp, run_fast_regfile, run_fast_units, run_vvp, scene_hex,
-    simulate, vvp_pixels, work_dir, write_scene_hex, SimPixel,
+    simulate, simulate_with, vvp_pixels, work_dir, write_scene_hex, SimPixel,
 };
 use common::{builtin, reduced, window};
 use golden::fp::Method;
@@ -161,6 +161,48 @@ fn glass_scenes_agree_under_icarus() {
         })
         .collect();
     assert_same(&runs);
+}
+
+/// Through the glass of glass_room at 80x60 (its sphere covers x 32..51,
+/// y 26..45).
+fn through_the_glass() -> Vec<(u32, u32)> {
+    (30..42)
+        .step_by(4)
+        .flat_map(|y| (36..48).step_by(4).map(move |x| (x, y)))
+        .collect()
+}
+
+/// The compact processor built without refraction (`REFRACTION = 0`): on
+/// a scene without glass every pixel is golden's, colour and cycles (the
+/// build with refraction's); on a glass scene it shows the glass opaque,
+/// so every pixel through it differs from golden's, which is why a build
+/// without refraction is refused a scene with glass.
+#[test]
+fn the_compact_processor_without_refraction_is_itself_without_glass() {
+    if !icarus_present("the_compact_processor_without_refraction_is_itself_without_glass") {
+        return;
+    }
+    let norefr = [("REFRACTION", 0)];
+    let scene = reduced("reference");
+    let pixels = grid(&scene, 11);
+    let got = simulate_with("norefr_reference", &scene, &pixels, &norefr);
+    let diff = differences(&scene, &got);
+    println!(
+        "reference without refraction: {} of {} pixels differ",
+        diff.len(),
+        pixels.len()
+    );
+    assert!(diff.is_empty(), "{}", diff.join("\n"));
+    let glass = builtin("glass_room", 80, 60);
+    let pixels = through_the_glass();
+    let got = simulate_with("norefr_glass_room", &glass, &pixels, &norefr);
+    let diff = differences(&glass, &got);
+    println!(
+        "glass_room without refraction: {} of {} pixels through the glass differ",
+        diff.len(),
+        pixels.len()
+    );
+    assert_eq!(diff.len(), pixels.len(), "{}", diff.join("\n"));
 }
 
 #[test]
@@ -569,27 +611,38 @@ fn fast_processor_agrees_with_golden_under_icarus() {
     use golden::micro::barrel::PixelWork;
     use golden::micro::isa::state;
     const CONTEXTS: u32 = 32; // fast_pp's CTX_BITS = 5
+                              // (scene, pixels, a planted fault, REFRACTION)
     let cases = [
-        ("reference", window(8, 10, 12, 4), None),
-        ("overexposed", window(12, 15, 8, 5), None),
+        ("reference", window(8, 10, 12, 4), None, true),
+        ("overexposed", window(12, 15, 8, 5), None, true),
         // through the glass sphere (x 16..25, y 13..22 of 40x30)
-        ("glass_room", window(16, 14, 8, 8), None),
+        ("glass_room", window(16, 14, 8, 8), None, true),
         (
             "reference",
             window(8, 6, 4, 1),
             Some((state::PRI_HALF, 1 << 20)),
+            true,
         ),
+        // Built without refraction: itself on a scene without glass, and
+        // the glass opaque (every pixel through it differs).
+        ("reference", window(10, 12, 8, 2), None, false),
+        ("glass_room", window(18, 16, 4, 2), None, false),
     ];
     let start = std::time::Instant::now();
     let runs: Vec<(Scene, FastRun, f64)> = std::thread::scope(|s| {
         let threads: Vec<_> = cases
             .iter()
-            .map(|(name, pixels, fault)| {
+            .map(|(name, pixels, fault, refraction)| {
                 s.spawn(move || {
                     let scene = builtin(name, 40, 30);
-                    let tag = if fault.is_some() { "_fault" } else { "" };
+                    let tag = match (fault.is_some(), refraction) {
+                        (true, _) => "_fault",
+                        (false, false) => "_norefr",
+                        (false, true) => "",
+                    };
                     let dir = work_dir(&format!("fast_pp_{name}{tag}"));
-                    let vvp = compile_fast_pp(&dir, scene.render.recip, scene.render.sqrt);
+                    let vvp =
+                        compile_fast_pp(&dir, scene.render.recip, scene.render.sqrt, *refraction);
                     let t = std::time::Instant::now();
                     let run = run_fast_pp(&vvp, &dir, &scene, pixels, *fault);
                     (scene, run, t.elapsed().as_secs_f64())
@@ -602,7 +655,7 @@ fn fast_processor_agrees_with_golden_under_icarus() {
             .collect()
     });
     let mut failures = Vec::new();
-    for ((name, pixels, fault), (scene, run, secs)) in cases.iter().zip(&runs) {
+    for ((name, pixels, fault, refraction), (scene, run, secs)) in cases.iter().zip(&runs) {
         let (bad, writes) = fast_differences(scene, run, pixels, CONTEXTS);
         let golden = golden::micro::Processor::new(scene);
         let exp_pixels = pixels
@@ -614,9 +667,14 @@ fn fast_processor_agrees_with_golden_under_icarus() {
             })
             .count();
         println!(
-            "fast_pp under Icarus, {name} 40x30{}: {} pixels ({exp_pixels} with EXP), \
+            "fast_pp under Icarus, {name} 40x30{}{}: {} pixels ({exp_pixels} with EXP), \
              {writes} writes compared, {} frame cycles, {} divergences ({secs:.1} s)",
             if fault.is_some() { " with a fault" } else { "" },
+            if *refraction {
+                ""
+            } else {
+                " without refraction"
+            },
             run.pixels.len(),
             run.frame_cycles,
             bad.len()
@@ -639,6 +697,17 @@ fn fast_processor_agrees_with_golden_under_icarus() {
         }
         if *name == "overexposed" {
             assert!(scene.render.exposure.is_some() && exp_pixels == pixels.len());
+        }
+        if *name == "glass_room" && !refraction {
+            // The glass opaque: every pixel through it diverges.
+            for &(x, y) in pixels {
+                assert!(
+                    bad.iter().any(|b| b.contains(&format!("({x}, {y})"))),
+                    "({x}, {y}) through the glass does not diverge without refraction:\n{}",
+                    bad.join("\n")
+                );
+            }
+            continue;
         }
         if *name == "glass_room" {
             // Most of the window sees the glass: its pixels refract.
@@ -663,7 +732,7 @@ fn fast_processor_agrees_with_golden_under_icarus() {
                 bad[..bad.len().min(20)].join("\n")
             ));
         }
-        if *name == "reference" {
+        if *name == "reference" && *refraction {
             // A barrel of the wrong size predicts other cycles.
             let (bad, _) = fast_differences(scene, run, pixels, CONTEXTS - 1);
             assert!(

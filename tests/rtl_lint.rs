@@ -113,6 +113,11 @@ fn fast_processor_parts_lint_clean() {
         let depth = format!("-GSTACK_DEPTH={depth}");
         lint_tree(common::fast_tree(), Some("fast_regfile"), &[&depth]);
     }
+    lint_tree(
+        common::fast_tree(),
+        Some("fast_regfile"),
+        &["-GREFRACTION=0"],
+    );
 }
 
 /// The fast processor (rtl/fast/fast_pp.v with its controller): every
@@ -135,6 +140,13 @@ fn fast_processor_lints_clean() {
             &[&depth, "-DPP_TRACE"],
         );
     }
+    // Without refraction (REFRACTION = 0), with and without the trace port.
+    lint_tree(common::fast_tree(), Some("fast_pp"), &["-GREFRACTION=0"]);
+    lint_tree(
+        common::fast_tree(),
+        Some("fast_pp"),
+        &["-GREFRACTION=0", "-DPP_TRACE"],
+    );
 }
 
 /// The latencies in rtl/fast/fast_defs.vh are the ones golden promises
@@ -235,6 +247,9 @@ fn the_pixel_processor_lints_clean_with_and_without_its_trace_port() {
             lint(Some("pixel_processor"), &[&recip, &sqrt, "-DPP_TRACE"]);
         }
     }
+    // Without refraction (REFRACTION = 0).
+    lint(Some("pixel_processor"), &["-GREFRACTION=0"]);
+    lint(Some("pixel_processor"), &["-GREFRACTION=0", "-DPP_TRACE"]);
 }
 
 #[test]

@@ -298,7 +298,7 @@ fn pp_ctrl_has_one_case_item_per_state_and_names_its_functions_after_golden() {
 
 /// Every ISA state each controller decodes is mapped to its line, and the
 /// mapped line, read here on its own, is the case item that names the
-/// state: in pp_ctrl.v's `case (st_q)`, and in fast_ctrl.v's `plan`
+/// state: in pp_ctrl.v's `case (st_dec)`, and in fast_ctrl.v's `plan`
 /// function (the fast controller's decode of a state into its micro-op).
 #[test]
 fn every_state_maps_to_the_verilog_line_that_decodes_it() {
@@ -309,7 +309,7 @@ fn every_state_maps_to_the_verilog_line_that_decodes_it() {
     // issues nothing (the plan's default, a NOP that writes nothing), so no
     // trace event is ever in IDLE. The compact controller decodes it.
     for (processor, file, within, unplanned) in [
-        (ProcessorKind::Compact, PP_CTRL, "case (st_q)", None),
+        (ProcessorKind::Compact, PP_CTRL, "case (st_dec)", None),
         (
             ProcessorKind::Fast,
             FAST_CTRL,

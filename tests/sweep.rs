@@ -15,7 +15,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// The documented column order (docs/accuracy.md, "Speed against accuracy").
-const HEADER: [&str; 35] = [
+const HEADER: [&str; 36] = [
     "scene",
     "width",
     "height",
@@ -27,6 +27,7 @@ const HEADER: [&str; 35] = [
     "fast_plane",
     "shadow_shortcut",
     "weight_cutoff",
+    "opaque_glass",
     "cycles_per_pixel",
     "max_cycles",
     "frame_cycles",

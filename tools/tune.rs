@@ -100,12 +100,12 @@ pub fn run(args: TuneArgs) -> Result<bool> {
     let processors: Vec<ProcessorKind> = args.processor.into_iter().collect();
     // The pick is co-simulated before it is recommended: any pick's model.
     rtcosim::campaign::sweep::check_rtl_models(
-        &tune::grid(&scene, &processors).configs(),
+        &tune::grid(&scene, &processors).configs_for(&scene),
         std::slice::from_ref(&scene),
     )
     .map_err(|e| anyhow::anyhow!("tune co-simulates its pick, and needs {e}"))?;
     let bar = progress_bar(
-        tune::grid(&scene, &processors).configs().len() as u64,
+        tune::grid(&scene, &processors).configs_for(&scene).len() as u64,
         "tuning   ",
         "{pos}/{len} configurations ({eta})",
     )?;

@@ -649,3 +649,173 @@ fn colour_over_1_is_detected_without_exposure_and_prevented_with_it() {
     );
     assert!(mean < 0.01, "mean error {mean}/255");
 }
+
+// ---------------------------------------------------------------------------
+// Refraction near the critical angle, and grazing exits
+// ---------------------------------------------------------------------------
+
+/// Per pixel of `s`, whether the micro-op model took each of refraction's
+/// two rounding guards: the chord's discriminant below 0 (RF_CV ran, no
+/// RF_CSQRT: the root taken as 0) and the exit's k' below 0 (RF_OK ran, no
+/// RF_OSQRT: sqrt(k') taken as 0). The counts of pixels that took each,
+/// and of those with a totally reflected child (RF_TIR) and a refracted
+/// one (RF_SQRT).
+fn refraction_guards(s: &Scene) -> [usize; 4] {
+    use golden::micro::isa::state;
+    let p = golden::micro::Processor::new(s);
+    let mut counts = [0; 4];
+    for y in 0..s.camera.height {
+        for x in 0..s.camera.width {
+            let (mut cv, mut csqrt, mut ok, mut osqrt, mut tir, mut sqrt) = (0, 0, 0, 0, 0, 0);
+            p.render_pixel(x, y, |e, _| match e.state {
+                state::RF_CV => cv += 1,
+                state::RF_CSQRT => csqrt += 1,
+                state::RF_OK => ok += 1,
+                state::RF_OSQRT => osqrt += 1,
+                state::RF_TIR => tir += 1,
+                state::RF_SQRT => sqrt += 1,
+                _ => {}
+            });
+            for (c, took) in counts
+                .iter_mut()
+                .zip([csqrt < cv, osqrt < ok, tir > 0, sqrt > 0])
+            {
+                *c += usize::from(took);
+            }
+        }
+    }
+    counts
+}
+
+/// Refraction's failure modes: near the critical angle total internal
+/// reflection switches on (k = 1 - eta^2 sin^2 crosses 0: the bubble's rim,
+/// index 0.75 inside 1), and a refracted ray that grazes the inside of the
+/// sphere meets the far side at once (the chord's discriminant and the
+/// exit's k' are rounding noise around 0). Classified: on every glass
+/// scene the micro-op model differs visibly from the f64 reference only
+/// on edges (the edge mask's path events include whether each refracted
+/// child refracts or reflects totally, so the critical-angle circle is an
+/// edge), and every colour is finite.
+///
+/// The check fails for a wrong refraction: with the second factor of
+/// eta^2 dropped (RF_ETA2 multiplying by ONE in `Program::refract`), "glass_room:
+/// 71 of 1637 visibly differing pixels lie off the edges".
+///
+/// Guards: the chord's negative discriminant and the exit's negative k'
+/// are taken as 0 (`Program::refract`, and the RTL's RF_CS/RF_OK
+/// branches). Finding: no pixel of these scenes takes either (the counts
+/// are printed with `--nocapture`), not even on the bubble_rim scene,
+/// where the critical circle crosses some hundred pixels: the refracted
+/// ray must graze the inside within about 0.02 degrees (cos < 3.5e-4 for
+/// b^2 to fall below the rounding of r^2) for the discriminant to round
+/// below 0, a band of incidence angles no pixel's ray falls in. Both
+/// sides of the critical angle are drawn, and match the reference.
+#[test]
+fn refraction_near_the_critical_angle_and_grazing_exits_differ_only_on_edges() {
+    let rim = |ior: &str| {
+        scene(
+            &BUBBLE_RIM.replace("ior = 0.75", &format!("ior = {ior}")),
+            "bubble_rim.toml",
+        )
+    };
+    for (name, s) in [
+        ("glass_room", builtin("glass_room", 160, 120)),
+        ("bubble", builtin("bubble", 160, 120)),
+        ("touching", builtin("touching", 160, 120)),
+        ("bubble_rim", rim("0.75")),
+        ("bubble_rim, index 0.99", rim("0.99")),
+        ("bubble_rim, index 1.5", rim("1.5")),
+    ] {
+        let m = micro(&s);
+        assert!(
+            m.pixels.iter().all(|p| p.iter().all(|c| c.is_finite())),
+            "{name}: a colour is not finite"
+        );
+        let v = Versus::of(&s);
+        v.assert_on_edges(name);
+        let [chord, exit, tir, refracted] = refraction_guards(&s);
+        // Both sides of the critical angle are drawn.
+        assert!(refracted > 0, "{name}: nothing refracts");
+        if name == "bubble" || name == "bubble_rim" {
+            assert!(tir > 0, "{name}: nothing is totally reflected");
+        }
+        println!(
+            "{name} {}x{}: {refracted} pixels refract, {tir} reflect totally; {} differ visibly, all on edges (mask {:.1}%); guards: chord disc < 0 in {chord} pixels, exit k' < 0 in {exit}",
+            s.camera.width,
+            s.camera.height,
+            v.differing.count(),
+            100.0 * v.edges.share()
+        );
+    }
+}
+
+/// The perturbation study on glass: ±1 ULP of a primary direction in any
+/// lane changes a pixel visibly only on an edge. Near the critical angle
+/// the nudge can switch a ray between refraction and total internal
+/// reflection; such a pixel lies on the critical circle, an edge of the
+/// mask (its path events differ from a neighbour's).
+#[test]
+fn one_ulp_of_direction_through_glass_changes_pixels_only_on_edges() {
+    for (name, s) in [
+        ("bubble", builtin("bubble", 80, 60)),
+        ("touching", builtin("touching", 80, 60)),
+        (
+            "bubble_rim",
+            scene(BUBBLE_RIM, "bubble_rim.toml")
+                .resized(96, 96, "bubble_rim")
+                .expect("valid"),
+        ),
+    ] {
+        let p = stability::perturb(&s, &|_| {});
+        let off = p.unexplained();
+        println!(
+            "{name}: {} unstable, mask {:.1}%",
+            p.unstable.count(),
+            100.0 * p.edges.share()
+        );
+        assert!(
+            off.is_empty(),
+            "{name}: {} of {} unstable pixels off the edges (mask {:.1}%), first {:?}",
+            off.len(),
+            p.unstable.count(),
+            100.0 * p.edges.share(),
+            &off[..off.len().min(8)]
+        );
+    }
+}
+
+/// A bubble (index 0.75 inside 1) filling most of the view, the eye 4
+/// radii from its centre: the circle of rays at the critical angle (10.8
+/// degrees off the axis), where total internal reflection begins and the
+/// refracted ray grazes the inside of the sphere, crosses many pixels,
+/// and the silhouette (14.5 degrees) is in view.
+const BUBBLE_RIM: &str = r#"
+[camera]
+eye = [0.0, 0.0, -400.0]
+distance = 600.0
+width = 320
+height = 320
+
+[light]
+position = [-300.0, 400.0, -500.0]
+color = [1.0, 1.0, 1.0]
+
+[[sphere]]
+center = [0.0, 0.0, 0.0]
+radius = 100.0
+color = [1.0, 1.0, 1.0]
+diffuse = 0.1
+specular = 0.3
+reflection = 0.2
+transmission = 0.9
+ior = 0.75
+
+[[plane]]
+axis = "z"
+facing = "-"
+offset = 300.0
+color = [0.8, 0.8, 0.2]
+diffuse = 0.8
+specular = 0.0
+reflection = 0.0
+"#;

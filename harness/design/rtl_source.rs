@@ -1,6 +1,6 @@
 //! Where the RTL decodes each controller state: the `file:line` of the
 //! state's item in each controller's `case` on the state (the compact
-//! processor's `case (st_q)` in `rtl/pp/pp_ctrl.v`, the fast processor's
+//! processor's `case (st_dec)` in `rtl/pp/pp_ctrl.v`, the fast processor's
 //! `case (st)` in the `plan` function of `rtl/fast/fast_ctrl.v`), mapped at
 //! build time (`build/rtl.rs` reads the case labels), so divergence reports name
 //! the Verilog line beside the golden model's Rust line.

@@ -2,8 +2,9 @@
 //! device filled with it draws a frame: the speed axis in hardware units.
 //!
 //! - [`Build`]: one distinct RTL build: the processor, the reciprocal's and
-//!   the square root's methods, `STACK_DEPTH`, and whether the fast
-//!   processor has its exponential (the compact one always has).
+//!   the square root's methods, `STACK_DEPTH`, whether the fast processor
+//!   has its exponential (the compact one always has), and whether the
+//!   processor traces refraction.
 //! - [`CostTable`]: each build's Virtex-6 resources and clock estimate, as
 //!   `rtl/synth/costs.toml` records them (the committed results of
 //!   synthesizing builds once: `rtl/synth/synth.sh xc6v ...` counted by
@@ -24,6 +25,7 @@
 use crate::design::processor::ProcessorKind;
 use crate::design::{Design, PpError};
 use golden::fp::Method;
+use golden::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -42,13 +44,15 @@ pub struct Build {
     pub stack_depth: u32,
     /// Whether the exponential is built (`EXPOSURE`; always for compact).
     pub exposure: bool,
+    /// Whether refraction is built (`REFRACTION`): transparent spheres.
+    pub refraction: bool,
 }
 
 impl fmt::Display for Build {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} processor, recip {}, sqrt {}, STACK_DEPTH {}, {}",
+            "{} processor, recip {}, sqrt {}, STACK_DEPTH {}, {}, {}",
             self.processor,
             self.recip,
             self.sqrt,
@@ -57,6 +61,11 @@ impl fmt::Display for Build {
                 "with the exponential"
             } else {
                 "without the exponential"
+            },
+            if self.refraction {
+                "with refraction"
+            } else {
+                "without refraction"
             }
         )
     }
@@ -78,14 +87,21 @@ impl Build {
             String::new()
         };
         format!(
-            "{} #(.RECIP_METHOD({recip}), .SQRT_METHOD({sqrt}), .STACK_DEPTH({depth}){exposure})",
-            row.models.module()
+            "{} #(.RECIP_METHOD({recip}), .SQRT_METHOD({sqrt}), .STACK_DEPTH({depth}){exposure}, \
+             .REFRACTION({}))",
+            row.models.module(),
+            u8::from(self.refraction)
         )
     }
 
     /// The design under test that co-simulates this build: refused unless
     /// the harness verilates it (`STACK_DEPTH` [`BUILT_STACK_DEPTH`], and
-    /// the model in this build).
+    /// the model in this build). The models are verilated with refraction:
+    /// a build without it runs scenes without glass only
+    /// ([`Build::for_scene`]), on which it is the build with refraction
+    /// state for state (its transparency bits are 0, so neither enters a
+    /// refraction state), and is co-simulated as that one; tests/icarus.rs
+    /// runs the build without refraction itself against golden.
     pub fn design(&self) -> Result<Design, PpError> {
         let design = Design::new(self.processor, self.recip, self.sqrt).exp_unit(self.exposure);
         if self.stack_depth != BUILT_STACK_DEPTH {
@@ -264,39 +280,52 @@ pub struct OnDevice {
 
 impl Build {
     /// The build a configuration of `processor` with `recip` and `sqrt`
-    /// runs on: [`BUILT_STACK_DEPTH`], and the exponential if the scene has
-    /// exposure.
+    /// runs `scene` on: [`BUILT_STACK_DEPTH`], the exponential if the scene
+    /// has exposure, refraction if it has a transparent sphere.
     pub fn for_scene(
         processor: ProcessorKind,
         recip: Method,
         sqrt: Method,
-        exposure: bool,
+        scene: &Scene,
     ) -> Build {
         Build {
             processor,
             recip,
             sqrt,
             stack_depth: BUILT_STACK_DEPTH,
-            exposure,
+            exposure: scene.render.exposure.is_some(),
+            refraction: scene.refracts(),
         }
     }
 }
 
 impl CostTable {
-    /// The cost of `want`, or for a build without the exponential that the
-    /// table does not hold, of the same build with it (the compact
-    /// processor always has it; the fast one's other pairs are not
-    /// synthesized without it).
+    /// The cost of `want`, or for a build without the exponential or
+    /// without refraction that the table does not hold, of the same build
+    /// with them, the exponential added first (the compact processor
+    /// always has the exponential; the other pairs are not synthesized
+    /// without it or without refraction).
     pub fn build_for(&self, want: Build) -> Result<&Cost, CostError> {
-        if !want.exposure {
-            if let Ok(c) = self.cost(want) {
-                return Ok(c);
-            }
-        }
-        self.cost(Build {
-            exposure: true,
-            ..want
-        })
+        let candidates = [
+            want,
+            Build {
+                exposure: true,
+                ..want
+            },
+            Build {
+                refraction: true,
+                ..want
+            },
+            Build {
+                exposure: true,
+                refraction: true,
+                ..want
+            },
+        ];
+        candidates
+            .iter()
+            .find_map(|&b| self.cost(b).ok())
+            .ok_or(CostError::Missing(want))
     }
 
     /// [`CostTable::build_for`] on `device`, filled, drawing a frame that

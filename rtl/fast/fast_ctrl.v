@@ -62,7 +62,8 @@
 module fast_ctrl #(
     parameter integer LATENCY     = 27,   // the ALU's (fast_alu LATENCY)
     parameter integer CTX_BITS    = 5,
-    parameter integer STACK_DEPTH = `ISA_DIM_STK_COUNT
+    parameter integer STACK_DEPTH = `ISA_DIM_STK_COUNT,
+    parameter integer REFRACTION  = 1     // 0: no refraction (no transparent sphere, no ISA_ST_RF_* state)
 ) (
     input  wire                              clk,
     input  wire                              rst_n,
@@ -220,7 +221,11 @@ module fast_ctrl #(
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
     wire [PLN_N*AB-1:0]  pln_axis  = cfg[`ISA_DIM_CFG_PLN_AXIS_LSB +: PLN_N*AB];
     wire [PLN_N-1:0]     pln_neg   = cfg[`ISA_DIM_CFG_PLN_NEG_LSB +: PLN_N];
-    wire [SPH_N-1:0]     sph_trn   = cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
+    // Without refraction no sphere is transparent: a build without it
+    // draws a scene's glass opaque, so it is for scenes without glass.
+    wire [SPH_N-1:0]     sph_trn   = REFRACTION != 0 ? cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N]
+                                                     : {SPH_N{1'b0}};
+    wire unused_trn = REFRACTION == 0 && ^cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
                         cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_TRN_LSB + SPH_N],
                         cfg[`ISA_DIM_CFG_DEPTH_LSB - 1:`ISA_DIM_CFG_PLANES_LSB + NPW]};
@@ -228,9 +233,9 @@ module fast_ctrl #(
     wire [SW-1:0] pixel_end = exposure ? `ISA_ST_EXPO_MUL : `ISA_ST_PIX_DONE;
 
     // ------------------------------------------------------------------------
-    // Pure functions of the control flow: pp_ctrl's four, one text with it
-    // (bits, shade_next, nearest_hit_next, primary_ray_next), then the
-    // ring's own
+    // Pure functions of the control flow: pp_ctrl's, one text with it
+    // (bits, shade_next, nearest_hit_next, primary_ray_next, decoded_st),
+    // then the ring's own
     // ------------------------------------------------------------------------
     `include "ctrl_flow.vh"
 
@@ -587,9 +592,9 @@ module fast_ctrl #(
                             with_variant[PL_AS +: SELW] = A_SHADE_D;
                             with_variant[PL_BS +: SELW] = B_OBJ_N;
                         end
-                        D_RF_IN:    begin with_variant[PL_A +: RW] = `ISA_REG_PAR_D; with_variant[PL_B +: RW] = T_N; end
-                        D_RF_CHORD: begin with_variant[PL_A +: RW] = T_V; with_variant[PL_B +: RW] = T_R; end
-                        D_RF_OUT:   begin with_variant[PL_A +: RW] = T_R; with_variant[PL_B +: RW] = T_N; end
+                        D_RF_IN:    if (REFRACTION != 0) begin with_variant[PL_A +: RW] = `ISA_REG_PAR_D; with_variant[PL_B +: RW] = T_N; end
+                        D_RF_CHORD: if (REFRACTION != 0) begin with_variant[PL_A +: RW] = T_V; with_variant[PL_B +: RW] = T_R; end
+                        D_RF_OUT:   if (REFRACTION != 0) begin with_variant[PL_A +: RW] = T_R; with_variant[PL_B +: RW] = T_N; end
                         default:   begin with_variant[PL_AS +: SELW] = A_SHADE_R; with_variant[PL_B +: RW] = T_L; end
                     endcase
                 V_DOT_3:
@@ -632,7 +637,7 @@ module fast_ctrl #(
             // A child is pushed for the reflected ray or the refracted one:
             // either way the shaded ray is the parent's.
             push  = s[S_PUSH] || s[S_REFR];
-            chord = s[J_CALL +: CALLW] == D_RF_CHORD;
+            chord = REFRACTION != 0 && s[J_CALL +: CALLW] == D_RF_CHORD;
             dsign = s[S_DSIGN +: LN];
 
             shading_o   = push ? `ISA_REG_PAR_O : `ISA_REG_CUR_O;
@@ -985,7 +990,7 @@ module fast_ctrl #(
     wire [JW-1:0] stay4      = s4[0 +: JW];
     wire [JW-1:0] unwind_j4  = uj_jump(uw_now4, s4[J_CALL +: CALLW]);
     wire [JW-1:0] shade_end4 = uj_jump(uw_end4, s4[J_CALL +: CALLW]);
-    wire          chord4     = s4[J_CALL +: CALLW] == D_RF_CHORD;
+    wire          chord4     = REFRACTION != 0 && s4[J_CALL +: CALLW] == D_RF_CHORD;
     wire          diff4      = s4[S_DIFF];
     wire          spec4      = s4[S_SPEC];
     wire          push4      = s4[S_PUSH];
@@ -993,7 +998,7 @@ module fast_ctrl #(
     wire          ctx4       = s4[S_CTX];
     wire          found4     = s4[S_FOUND];
     wire          kind4      = s4[J_KIND];
-    wire [SW-1:0] st4        = s4[J_ST +: SW];
+    wire [SW-1:0] st4        = decoded_st(s4[J_ST +: SW], REFRACTION != 0);
     wire [CALLW-1:0] call4   = s4[J_CALL +: CALLW];
     wire          in_sph4    = (kind4 == K_SPH);
     wire [OW:0]   after_sph4 = in_sph4 ? sph_next4 : NONE;
@@ -1090,9 +1095,9 @@ module fast_ctrl #(
                             src0 = J_DIFF_DARK;
                         end
                         D_REFLECT:  nst0 = `ISA_ST_SH_REFL_K;
-                        D_RF_IN:    nst0 = `ISA_ST_RF_COS2;
-                        D_RF_CHORD: nst0 = `ISA_ST_RF_CBD;
-                        D_RF_OUT:   nst0 = `ISA_ST_RF_OCOS2;
+                        D_RF_IN:    if (REFRACTION != 0) nst0 = `ISA_ST_RF_COS2;
+                        D_RF_CHORD: if (REFRACTION != 0) nst0 = `ISA_ST_RF_CBD;
+                        D_RF_OUT:   if (REFRACTION != 0) nst0 = `ISA_ST_RF_OCOS2;
                         default: begin
                             mp   = M_X;                     // r.l > 0
                             nst1 = `ISA_ST_SH_POW2;
@@ -1452,9 +1457,10 @@ module fast_ctrl #(
         j_offset5    <= with_st_sp(stay4, {ST_SH_POINT, sp_offset4});
         j_dot_sph5   <= with_call(stay4, `ISA_ST_DOT_1, D_SPHERE);
         j_dot_light5 <= with_call(stay4, `ISA_ST_DOT_1, D_LIGHT);
-        j_dot_rf_in5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_IN);
-        j_dot_chord5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_CHORD);
-        j_dot_rf_out5 <= with_call(stay4, `ISA_ST_DOT_1, D_RF_OUT);
+        // (Without refraction no code selects these: 0, none of its logic.)
+        j_dot_rf_in5 <= REFRACTION != 0 ? with_call(stay4, `ISA_ST_DOT_1, D_RF_IN) : {JW{1'b0}};
+        j_dot_chord5 <= REFRACTION != 0 ? with_call(stay4, `ISA_ST_DOT_1, D_RF_CHORD) : {JW{1'b0}};
+        j_dot_rf_out5 <= REFRACTION != 0 ? with_call(stay4, `ISA_ST_DOT_1, D_RF_OUT) : {JW{1'b0}};
     end
     wire unused_next4 = ^{sph_next4[OW], pln_next4[OW]};
 
@@ -1478,13 +1484,17 @@ module fast_ctrl #(
                                j_diff_lit5, j_nh_start5, j_nh_kept5, j_shd_false5, j_shd_true5,
                                j_offer5, j_box_false5, j_nh_after5, {JW{1'b0}}};
 
+    // Without refraction the candidates' refraction fields are 0, and so
+    // is every copy of them around the ring: none of its logic.
+    localparam [SWD-1:0] RF_KEEP = REFRACTION != 0 ? {SWD{1'b1}}
+                                                   : {{(SWD - S_REFR){1'b0}}, {S_REFR{1'b1}}};
     reg [SWD-1:0]   a0_c, a1_c;
     reg [LN-1:0]    mn_c, mp_c;
     reg             inv_c, ld_dir_c, ld_facing_c, ld_cut_c, ns_planes_c, box_corner_c;
     reg [PLN_N-1:0] pln_open_c;
     always @(posedge clk) begin
-        a0_c         <= {r0_5[SWD-1:JW], jump_of(src0_5, nst0_5, s5[0 +: JW], jumps5)};
-        a1_c         <= {r1_5[SWD-1:JW], jump_of(src1_5, nst1_5, s5[0 +: JW], jumps5)};
+        a0_c         <= RF_KEEP & {r0_5[SWD-1:JW], jump_of(src0_5, nst0_5, s5[0 +: JW], jumps5)};
+        a1_c         <= RF_KEEP & {r1_5[SWD-1:JW], jump_of(src1_5, nst1_5, s5[0 +: JW], jumps5)};
         mn_c         <= mn5;
         mp_c         <= mp5;
         inv_c        <= inv5;
@@ -1511,8 +1521,8 @@ module fast_ctrl #(
     always @(posedge clk) begin
         a0_e    <= a0_c;
         a1_e    <= a1_c;
-        plan0_e <= plan(a0_c[J_ST +: SW]);
-        plan1_e <= plan(a1_c[J_ST +: SW]);
+        plan0_e <= plan(decoded_st(a0_c[J_ST +: SW], REFRACTION != 0));
+        plan1_e <= plan(decoded_st(a1_c[J_ST +: SW], REFRACTION != 0));
         code_e  <= code_c;
     end
 

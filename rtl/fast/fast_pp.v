@@ -54,6 +54,7 @@ module fast_pp #(
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT,
     parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
     parameter integer EXPOSURE     = 1,   // 0: no exponential (scenes without exposure only)
+    parameter integer REFRACTION   = 1,   // 0: no refraction (scenes without transparent spheres only)
     parameter integer CTX_BITS     = 5
 ) (
     input  wire                             clk,
@@ -171,7 +172,8 @@ module fast_pp #(
     fast_ctrl #(
         .LATENCY     (LATENCY),
         .CTX_BITS    (CTX_BITS),
-        .STACK_DEPTH (STACK_DEPTH)
+        .STACK_DEPTH (STACK_DEPTH),
+        .REFRACTION  (REFRACTION)
     ) u_ctrl (
         .clk      (clk),
         .rst_n    (rst_n),
@@ -212,7 +214,11 @@ module fast_pp #(
     wire [2:0]          wm;
     wire [95:0]         wd;
 
-    fast_regfile #(.STACK_DEPTH(STACK_DEPTH), .CTX_BITS(CTX_BITS)) u_rf (
+    fast_regfile #(
+        .STACK_DEPTH (STACK_DEPTH),
+        .CTX_BITS    (CTX_BITS),
+        .REFRACTION  (REFRACTION)
+    ) u_rf (
         .clk   (clk),
         .r_ctx (turn_ctx),
         .ra_a  (pa_a),

@@ -31,7 +31,8 @@
 // ============================================================================
 module fast_regfile #(
     parameter integer STACK_DEPTH = `ISA_DIM_STK_COUNT,
-    parameter integer CTX_BITS    = 5
+    parameter integer CTX_BITS    = 5,
+    parameter integer REFRACTION  = 1   // 0: no refraction bank (a scene table of 128 words)
 ) (
     input  wire                         clk,
     // Reads, two edges
@@ -63,13 +64,17 @@ module fast_regfile #(
     localparam integer  TRN_END_I = `ISA_REG_TRN0 + `ISA_DIM_TRN_COUNT * `ISA_DIM_TRN_STRIDE;
     localparam [RB-1:0] TRN0     = `ISA_REG_TRN0;
     localparam [RB:0]   TRN_END  = TRN_END_I[RB:0];
+    // The scene table's address bits: the refraction bank lies above 127.
+    localparam integer  SB       = REFRACTION != 0 ? RB : RB - 1;
+    localparam integer  SCENE_WORDS = 1 << SB;
+    localparam [RB:0]   SCENE_END = SCENE_WORDS[RB:0];
 
     // Which table an address is in: the scene's registers (the refraction
     // bank TRN0..7 among them, scene constants too) or a context's.
     localparam [1:0] T_NONE = 2'd0, T_SCENE = 2'd1, T_CTX = 2'd2;
 
     function [1:0] table_of(input [RB-1:0] addr);
-        if (addr < T0 || (addr >= TRN0 && {1'b0, addr} < TRN_END))
+        if (addr < T0 || (REFRACTION != 0 && addr >= TRN0 && {1'b0, addr} < TRN_END))
             table_of = T_SCENE;
         else if (addr < TEMP_END || (addr >= STK0_O && {1'b0, addr} < STK_END))
             table_of = T_CTX;
@@ -79,6 +84,9 @@ module fast_regfile #(
 
     wire                  w_ctx_ok = we & (table_of(wa) == T_CTX);
     wire [ENTRY_BITS-1:0] w_entry  = {w_ctx, wa[5:0]};
+    // A scene write outside the table is dropped (only above 127, without
+    // refraction).
+    wire                  sw_ok    = swe & ({1'b0, swa} < SCENE_END);
 
     // The two read ports, each with its copy of the tables.
     wire [RB-1:0]  ra [0:1];
@@ -96,13 +104,13 @@ module fast_regfile #(
             reg [95:0] out_q;
             for (gl = 0; gl < 3; gl = gl + 1) begin : g_lane
                 reg [31:0] ctx_mem   [0:(1 << ENTRY_BITS)-1];
-                reg [31:0] scene_mem [0:(1 << RB)-1];
+                reg [31:0] scene_mem [0:(1 << SB)-1];
                 reg [31:0] ctx_q, scene_q;
                 always @(posedge clk) begin
                     if (w_ctx_ok && wmask[gl]) ctx_mem[w_entry] <= wd[32*gl +: 32];
-                    if (swe) scene_mem[swa] <= swd[32*gl +: 32];
+                    if (sw_ok) scene_mem[swa[SB-1:0]] <= swd[32*gl +: 32];
                     ctx_q   <= ctx_mem[{r_ctx, ra[gp][5:0]}];
-                    scene_q <= scene_mem[ra[gp]];
+                    scene_q <= scene_mem[ra[gp][SB-1:0]];
                 end
                 always @(posedge clk) begin
                     case (table_q)

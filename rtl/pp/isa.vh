@@ -261,6 +261,9 @@
 // "Refraction"), spawned into level sp when the hit's reflected subtree has
 // been added into its colour, or at once without one: p in CUR_O (SH_POINT
 // wrote it there), d in PAR_D, eta = TRNk.x, ior = TRNk.y, kt = TRNk.z.
+// These are the ids from 100 up, and only these: a controller built
+// without refraction (REFRACTION = 0) decodes none of them (ctrl_flow.vh,
+// decoded_st).
 // Into the sphere (Snell, eta):
 `define ISA_ST_RF_NSUB 100         // N = p - c
 `define ISA_ST_RF_NSCALE 101       // N = n = (p - c) * 1/r (then Q.x = d.n by DOT)

@@ -27,7 +27,8 @@
 module pixel_processor #(
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT,
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT,
-    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT
+    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
+    parameter integer REFRACTION   = 1   // 0: no refraction (scenes without transparent spheres only)
 ) (
     input  wire                           clk,
     input  wire                           rst_n,
@@ -80,7 +81,7 @@ module pixel_processor #(
     wire                        alu_done;
     wire [2:0]                  y_neg, y_pos, y_sign;
 
-    pp_ctrl u_ctrl (
+    pp_ctrl #(.REFRACTION(REFRACTION)) u_ctrl (
         .clk      (clk),
         .rst_n    (rst_n),
         .cfg      (cfg_q),
@@ -117,7 +118,8 @@ module pixel_processor #(
     pp_core #(
         .RECIP_METHOD (RECIP_METHOD),
         .SQRT_METHOD  (SQRT_METHOD),
-        .STACK_DEPTH  (STACK_DEPTH)
+        .STACK_DEPTH  (STACK_DEPTH),
+        .REFRACTION   (REFRACTION)
     ) u_core (
         .clk        (clk),
         .rst_n      (rst_n),

@@ -22,7 +22,8 @@
 module pp_core #(
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT,
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT,
-    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT
+    parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT,
+    parameter integer REFRACTION   = 1   // 0: no refraction registers (memory)
 ) (
     input  wire                          clk,
     input  wire                          rst_n,
@@ -99,7 +100,7 @@ module pp_core #(
     assign alu_wa = pa_w;
     assign alu_wd = {y[95:32], y[31:0] ^ wd_flip};
 
-    memory #(.STACK_DEPTH(STACK_DEPTH)) u_memory (
+    memory #(.STACK_DEPTH(STACK_DEPTH), .REFRACTION(REFRACTION)) u_memory (
         .clk   (clk),
         .ra_a  (pa_a),
         .ra_b  (pa_b),

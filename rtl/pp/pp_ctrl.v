@@ -21,7 +21,8 @@
 //
 // Shape (lowRISC Ibex, ibex_multdiv_slow.sv): the flops only reset and
 // latch; one combinational block first sets every output and every next
-// value to its default (no instruction; *_d = *_q), then one case (st_q)
+// value to its default (no instruction; *_d = *_q), then one case (st_dec,
+// st_q as this build decodes it: ctrl_flow.vh's decoded_st)
 // holds each state's instruction and its next state together. A next-state
 // choice that several states share is a pure function (it reads only its
 // arguments) named after the program.rs function whose control flow it
@@ -38,7 +39,9 @@
 // and every other register, until alu_done; every other instruction is done
 // in its cycle (alu.v).
 // ============================================================================
-module pp_ctrl (
+module pp_ctrl #(
+    parameter integer REFRACTION = 1   // 0: no refraction (no transparent sphere, no ISA_ST_RF_* state)
+) (
     input  wire                            clk,
     input  wire                            rst_n,
     // The configuration word (layout: ISA_DIM_CFG_* in isa.vh).
@@ -145,7 +148,11 @@ module pp_ctrl (
     wire [PLN_N*MB-1:0]  pln_bits  = cfg[`ISA_DIM_CFG_PLN_BITS_LSB +: PLN_N*MB];
     wire [PLN_N*AB-1:0]  pln_axis  = cfg[`ISA_DIM_CFG_PLN_AXIS_LSB +: PLN_N*AB];
     wire [PLN_N-1:0]     pln_neg   = cfg[`ISA_DIM_CFG_PLN_NEG_LSB +: PLN_N];
-    wire [SPH_N-1:0]     sph_trn   = cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
+    // Without refraction no sphere is transparent: a build without it
+    // draws a scene's glass opaque, so it is for scenes without glass.
+    wire [SPH_N-1:0]     sph_trn   = REFRACTION != 0 ? cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N]
+                                                     : {SPH_N{1'b0}};
+    wire unused_trn = REFRACTION == 0 && ^cfg[`ISA_DIM_CFG_TRN_LSB +: SPH_N];
     // The word's spare bits.
     wire unused_cfg = ^{cfg[LN*32-1:`ISA_DIM_CFG_PLN_NEG_LSB + PLN_N],
                         cfg[`ISA_DIM_CFG_SPH_BITS_LSB - 1:`ISA_DIM_CFG_TRN_LSB + SPH_N],
@@ -295,7 +302,7 @@ module pp_ctrl (
     wire [RW-1:0]  rf_c = sphere(idx_q, `ISA_REG_SPH0_C);
     wire [RW-1:0]  rf_r = sphere(idx_q, `ISA_REG_SPH0_R);
     wire [RW-1:0]  rf_t = `ISA_REG_TRN0 + idx_q * `ISA_DIM_TRN_STRIDE;
-    wire           chord = (call_q == D_RF_CHORD);
+    wire           chord = REFRACTION != 0 && call_q == D_RF_CHORD;
 
     // The ray under test (the o, d of sphere_u, plane_u_checked, box_hit):
     // nearest_hit's is the current level's, shadowed's is (p, L).
@@ -499,8 +506,13 @@ module pp_ctrl (
     wire [JW-1:0] shade_end    = (refr_q && !push_q) ? {ST_RF_NSUB, sp_q, call_q, K_SPH, obj_idx_q}
                                                      : unwind_now;
 
-    // bits, shade_next, nearest_hit_next, primary_ray_next (shared with fast_ctrl).
+    // bits, shade_next, nearest_hit_next, primary_ray_next, decoded_st
+    // (shared with fast_ctrl).
     `include "ctrl_flow.vh"
+
+    // The state the case below decodes (st_q, or none for a refraction
+    // state without refraction).
+    wire [SW-1:0] st_dec = decoded_st(st_q, REFRACTION != 0);
 
     // shadowed() has returned: lit = !shadowed (found_q from then on).
     wire [JW-1:0] shadowed_false = shade_next(S_DIFFUSE, 1'b1, diff_q, spec_q, obj_bits, push_q,
@@ -582,7 +594,7 @@ module pp_ctrl (
         dneg_d      = dneg_q;
         dpos_d      = dpos_q;
 
-        case (st_q)
+        case (st_dec)
             // Wait for a pixel; the edge that takes start latches it, and the
             // first instruction follows at once (no start cycle).
             `ISA_ST_IDLE: if (start) begin
@@ -663,11 +675,11 @@ module pp_ctrl (
                     D_REFLECT:
                         st_d = `ISA_ST_SH_REFL_K;
                     D_RF_IN:
-                        st_d = `ISA_ST_RF_COS2;
+                        if (REFRACTION != 0) st_d = `ISA_ST_RF_COS2;
                     D_RF_CHORD:
-                        st_d = `ISA_ST_RF_CBD;
+                        if (REFRACTION != 0) st_d = `ISA_ST_RF_CBD;
                     D_RF_OUT:
-                        st_d = `ISA_ST_RF_OCOS2;
+                        if (REFRACTION != 0) st_d = `ISA_ST_RF_OCOS2;
                     // shade: r.l > 0, or no specular term.
                     default:
                         if (y_pos[0]) st_d = `ISA_ST_SH_POW2;
@@ -1264,6 +1276,15 @@ module pp_ctrl (
             end
             default: st_d = `ISA_ST_IDLE;
         endcase
+
+        // Without refraction its registers hold 0: none of its logic.
+        if (REFRACTION == 0) begin
+            refr_d  = 1'b0;
+            rcut_d  = 1'b0;
+            pend_d  = {STK_N{1'b0}};
+            pidx_d  = {(STK_N * OW){1'b0}};
+            rfneg_d = 1'b0;
+        end
     end
 
 `ifdef PP_COVER

@@ -2,7 +2,9 @@
 # rtl/synth/synth.sh -- synthesize the pixel processor or the top for an FPGA
 # (docs/rtl.md, "Synthesis"). Run from the repository root:
 #
-#   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6
+#   rtl/synth/synth.sh xc6v pp exact       # pixel_processor, Virtex-6; a 4th argument
+#                                          # norefr builds it without refraction
+#                                          # (REFRACTION = 0)
 #   rtl/synth/synth.sh xc6v top exact 4    # top, N = 4, pixel_processor a black box
 #   rtl/synth/synth.sh xc6v fast-top exact 34 # top of fast processors (FAST = 1), N = 34,
 #                                          # fast_pp a black box
@@ -22,7 +24,9 @@
 #                                          # as they are, 293 bits, which fit the ECP5
 #                                          # package pnr_ecp5.sh uses; xc6v with
 #                                          # -nowidelut); a 4th argument noexp builds
-#                                          # it without fp_exp (EXPOSURE = 0)
+#                                          # it without fp_exp (EXPOSURE = 0), norefr
+#                                          # without refraction (REFRACTION = 0),
+#                                          # noexp-norefr without either
 #   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
 #                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
@@ -43,7 +47,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast|exact-fast|fast-exact [N|noexp]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast|exact-fast|fast-exact [N|noexp|norefr|noexp-norefr]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -79,10 +83,14 @@ inc="-defer $trace -Irtl/fp -Irtl/pp"
 params="-chparam RECIP_METHOD $recip_method -chparam SQRT_METHOD $sqrt_method"
 case $design in
 pp)
-    [ -z "$n" ] || { echo "$0: N is for the top only" >&2; exit 2; }
+    case $n in
+    "") refraction=1 out=$device-pp-$methods ;;
+    norefr) refraction=0 out=$device-pp-$methods-norefr ;;
+    *) echo "$0: the processor's 4th argument is norefr or nothing, not '$n'" >&2; exit 2 ;;
+    esac
     top=pixel_processor
     read="read_verilog $inc $(echo rtl/fp/*.v rtl/pp/*.v)"
-    out=$device-pp-$methods
+    params="$params -chparam REFRACTION $refraction"
     ;;
 top)
     [ -n "$n" ] || { echo "$0: the top needs N" >&2; exit 2; }
@@ -131,15 +139,18 @@ fast-alu)
     ;;
 fast-pp)
     case $n in
-    "") exposure=1 out=$device-fast-pp-$methods ;;
-    noexp) exposure=0 out=$device-fast-pp-$methods-noexp ;;
-    *) echo "$0: the processor's 4th argument is noexp or nothing, not '$n'" >&2; exit 2 ;;
+    "") exposure=1 refraction=1 ;;
+    noexp) exposure=0 refraction=1 ;;
+    norefr) exposure=1 refraction=0 ;;
+    noexp-norefr) exposure=0 refraction=0 ;;
+    *) echo "$0: the processor's 4th argument is noexp, norefr, noexp-norefr or nothing, not '$n'" >&2; exit 2 ;;
     esac
+    out=$device-fast-pp-$methods${n:+-$n}
     top=fast_pp
     # STACK_DEPTH and CTX_BITS (5: 32 contexts) are the RTL's defaults. No
     # wrapper for ecp5: the 293 port bits fit the package's 365 I/O.
     read="read_verilog $inc -Irtl/fast $(echo rtl/fp/fp_lzc.v rtl/pp/alu_ctrl.v rtl/pp/mem_ctrl.v rtl/fast/*.v)"
-    params="$params -chparam EXPOSURE $exposure"
+    params="$params -chparam EXPOSURE $exposure -chparam REFRACTION $refraction"
     # Virtex-6: LUTs of at most 6 inputs (-nowidelut). With wide LUTs ABC
     # maps some of the controller's decodes as LUT7/LUT8 chains (MUXF7,
     # MUXF8) whose depth changes with the netlist around them (docs/fast.md,

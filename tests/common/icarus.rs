@@ -311,8 +311,19 @@ pub fn pix_lines(stdout: &str) -> Vec<(SimPixel, Vec<u64>)> {
 
 /// Runs `pixels` of `scene` under Icarus, split over one `vvp` per core.
 pub fn simulate(name: &str, scene: &Scene, pixels: &[(u32, u32)]) -> Vec<SimPixel> {
+    simulate_with(name, scene, pixels, &[])
+}
+
+/// [`simulate`] with the processor's parameters `params` (pp_tb passes
+/// `STACK_DEPTH` and `REFRACTION` on).
+pub fn simulate_with(
+    name: &str,
+    scene: &Scene,
+    pixels: &[(u32, u32)],
+    params: &[(&str, u32)],
+) -> Vec<SimPixel> {
     let dir = work_dir(name);
-    let vvp = compile(&dir, "pp_tb", scene.render.recip, scene.render.sqrt, &[]);
+    let vvp = compile(&dir, "pp_tb", scene.render.recip, scene.render.sqrt, params);
     let scene_file = write_scene_hex(&dir, scene);
     let n_writes = scene_hex(scene).1;
     let shards = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -430,8 +441,9 @@ pub fn differences(scene: &Scene, got: &[SimPixel]) -> Vec<String> {
 
 /// Compiles the fast pixel processor (rtl/fast/fast_pp.v, with the
 /// exponential and its trace port: `PP_TRACE`) with
-/// tests/icarus/fast_pp_tb.v for the scene's float methods.
-pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method) -> PathBuf {
+/// tests/icarus/fast_pp_tb.v for the scene's float methods, with or
+/// without refraction (`REFRACTION`).
+pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method, refraction: bool) -> PathBuf {
     let (includes, sources) = super::fast_tree();
     let vvp = dir.join(format!("fast_pp_tb_{recip}_{sqrt}.vvp"));
     iverilog(
@@ -440,7 +452,11 @@ pub fn compile_fast_pp(dir: &Path, recip: Method, sqrt: Method) -> PathBuf {
         &includes,
         &sources,
         &["PP_TRACE"],
-        &[("RECIP_METHOD", recip.code()), ("SQRT_METHOD", sqrt.code())],
+        &[
+            ("RECIP_METHOD", recip.code()),
+            ("SQRT_METHOD", sqrt.code()),
+            ("REFRACTION", u32::from(refraction)),
+        ],
     );
     vvp
 }

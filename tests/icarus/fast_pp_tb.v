@@ -40,6 +40,7 @@ module fast_pp_tb;
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT;
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT;
     parameter integer EXPOSURE     = 1;
+    parameter integer REFRACTION   = 1;
     parameter integer CTX_BITS     = 5;
     parameter integer MAX_WRITES   = 1 << `ISA_DIM_REG_BITS;
     parameter integer MAX_PIXELS   = 1 << 16;
@@ -77,6 +78,7 @@ module fast_pp_tb;
         .RECIP_METHOD (RECIP_METHOD),
         .SQRT_METHOD  (SQRT_METHOD),
         .EXPOSURE     (EXPOSURE),
+        .REFRACTION   (REFRACTION),
         .CTX_BITS     (CTX_BITS)
     ) dut (
         .clk            (clk),

@@ -26,6 +26,7 @@ module pp_tb;
     parameter integer RECIP_METHOD = `FP_METHOD_EXACT;
     parameter integer SQRT_METHOD  = `FP_METHOD_EXACT;
     parameter integer STACK_DEPTH  = `ISA_DIM_STK_COUNT;
+    parameter integer REFRACTION   = 1;
     parameter integer MAX_WRITES   = 1 << `ISA_DIM_REG_BITS;
     parameter integer MAX_PIXELS   = 1 << 16;
     parameter integer TIMEOUT      = 100000;  // pixel_proc::DEFAULT_TIMEOUT_CYCLES
@@ -77,7 +78,8 @@ module pp_tb;
     pixel_processor #(
         .RECIP_METHOD (RECIP_METHOD),
         .SQRT_METHOD  (SQRT_METHOD),
-        .STACK_DEPTH  (STACK_DEPTH)
+        .STACK_DEPTH  (STACK_DEPTH),
+        .REFRACTION   (REFRACTION)
     ) dut (
         `PP_TB_PORTS
     );

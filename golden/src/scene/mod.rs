@@ -107,6 +107,12 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Whether any of its objects is transparent: a refracted child ray
+    /// (only a sphere can be; docs/scenes.md, "Refraction").
+    pub fn refracts(&self) -> bool {
+        self.spheres.iter().any(|s| s.material.transparent())
+    }
+
     /// Parses and validates a scene file's text. `origin` names the file in
     /// errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
@@ -176,6 +182,26 @@ impl Scene {
         camera.distance = (f64::from(camera.distance) * f64::from(camera.width)
             / f64::from(layout_width.max(1))) as f32;
         self.with_camera(camera, origin)
+    }
+
+    /// The same scene with its glass opaque: every sphere's transmission
+    /// 0, so that nothing refracts (the index of refraction stays and means
+    /// nothing). A picture that a processor built without refraction
+    /// draws; the sweep's and tune's knob (`opaque_glass`). `origin` names
+    /// the request in errors.
+    pub fn with_opaque_glass(&self, origin: &str) -> Result<Scene, SceneError> {
+        let mut spheres = self.spheres.clone();
+        for s in &mut spheres {
+            s.material.transmission = 0.0;
+        }
+        Scene::new(
+            origin,
+            self.camera.clone(),
+            self.light.clone(),
+            spheres,
+            self.planes.clone(),
+            self.render,
+        )
     }
 
     /// This scene with another camera, validated again.

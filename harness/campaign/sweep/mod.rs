@@ -190,6 +190,11 @@ pub struct Config {
     /// `[render] weight_cutoff`: no reflection ray is spawned whose weight
     /// is below it (0: off).
     pub cutoff: f32,
+    /// The scene's glass drawn opaque (every transmission 0,
+    /// [`Scene::with_opaque_glass`]): nothing refracts, and the build has
+    /// no refraction. Only a scene with glass takes it
+    /// ([`Grid::configs_for`]).
+    pub opaque_glass: bool,
 }
 
 impl Config {
@@ -204,6 +209,7 @@ impl Config {
             depth: MAX_DEPTH,
             speedups: Speedups::default(),
             cutoff: 0.0,
+            opaque_glass: false,
         }
     }
 
@@ -224,6 +230,7 @@ impl Config {
                 shadow_shortcut: true,
             },
             cutoff: 0.0,
+            opaque_glass: false,
         }
     }
 
@@ -240,32 +247,36 @@ impl Config {
             weight_cutoff: self.cutoff,
             ..scene.render
         };
-        scene.with_render(render, origin)
+        if self.opaque_glass {
+            scene.with_opaque_glass(origin)?.with_render(render, origin)
+        } else {
+            scene.with_render(render, origin)
+        }
     }
 
     /// The RTL build this configuration of `scene` runs on (and is priced
     /// as): its processor and methods, [`crate::output::device::BUILT_STACK_DEPTH`],
-    /// the exponential if the scene has exposure.
+    /// the exponential if the scene has exposure, refraction if it has glass.
     pub fn build(&self, scene: &Scene) -> Build {
-        Build::for_scene(
-            self.processor,
-            self.recip,
-            self.sqrt,
-            scene.render.exposure.is_some(),
-        )
+        Build::for_scene(self.processor, self.recip, self.sqrt, scene)
     }
 
     /// A short name: `compact, depth 4, recip exact, sqrt fast, fp+ss,
-    /// cutoff 1/256`.
+    /// cutoff 1/256`, and `, opaque glass` with the glass opaque.
     pub fn label(&self) -> String {
         format!(
-            "{}, depth {}, recip {}, sqrt {}, {}, {}",
+            "{}, depth {}, recip {}, sqrt {}, {}, {}{}",
             self.processor,
             self.depth,
             self.recip,
             self.sqrt,
             speedup_label(self.speedups),
-            cutoff_label(self.cutoff)
+            cutoff_label(self.cutoff),
+            if self.opaque_glass {
+                ", opaque glass"
+            } else {
+                ""
+            }
         )
     }
 }
@@ -302,9 +313,10 @@ pub fn speedup_label(s: Speedups) -> String {
 }
 
 /// The grid: the product of these lists, in this order (processor, recip,
-/// sqrt, depth, speed-ups, cutoff), which is the order of the CSV's rows.
-/// Depth 1 spawns no reflection, so it takes only cutoff 0 (the others
-/// would be the same configuration).
+/// sqrt, depth, speed-ups, cutoff, opaque glass), which is the order of the
+/// CSV's rows. Depth 1 spawns no reflection, so it takes only cutoff 0 (the
+/// others would be the same configuration); a scene without glass takes
+/// only its glass as it is ([`Grid::configs_for`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     pub processors: Vec<ProcessorKind>,
@@ -313,12 +325,15 @@ pub struct Grid {
     pub depths: Vec<u32>,
     pub speedups: Vec<Speedups>,
     pub cutoffs: Vec<f32>,
+    /// Whether the glass is drawn opaque ([`Config::opaque_glass`]).
+    pub opaque_glass: Vec<bool>,
 }
 
 impl Grid {
     /// The sweep's grid: both processors, both methods of each unit, every
     /// depth 1..=8, each speed-up on and off (8 combinations), the cutoffs
-    /// of [`SWEEP_CUTOFFS`]: 2 x 4 x 8 x (1 + 7 x 3) = 1,408 configurations.
+    /// of [`SWEEP_CUTOFFS`]: 2 x 4 x 8 x (1 + 7 x 3) = 1,408 configurations;
+    /// for a scene with glass, each with its glass as it is and opaque.
     pub fn full() -> Grid {
         Grid {
             speedups: (0..8u8)
@@ -334,10 +349,11 @@ impl Grid {
     }
 
     /// `tune`'s grid: both processors, both methods of each unit, every
-    /// depth, every cutoff of [`CUTOFFS`], and the one set of speed-ups
-    /// given (those whose preconditions the scene meets: they change only
-    /// the cycles, never the image): 2 x 4 x (1 + 7 x 9) = 512
-    /// configurations.
+    /// depth, every cutoff of [`CUTOFFS`], the glass as it is and opaque,
+    /// and the one set of speed-ups given (those whose preconditions the
+    /// scene meets: they change only the cycles, never the image):
+    /// 2 x 4 x (1 + 7 x 9) = 512 configurations, twice that for a scene
+    /// with glass.
     pub fn tune(speedups: Speedups) -> Grid {
         let both = vec![Method::Exact, Method::Fast];
         Grid {
@@ -347,7 +363,19 @@ impl Grid {
             depths: (1..=MAX_DEPTH).collect(),
             speedups: vec![speedups],
             cutoffs: CUTOFFS.to_vec(),
+            opaque_glass: vec![false, true],
         }
+    }
+
+    /// Every configuration `scene` takes, in row order: [`Grid::configs`]
+    /// but, for a scene without glass, none with the glass opaque (the
+    /// same picture as with it as it is).
+    pub fn configs_for(&self, scene: &Scene) -> Vec<Config> {
+        let glass = scene.refracts();
+        self.configs()
+            .into_iter()
+            .filter(|c| glass || !c.opaque_glass)
+            .collect()
     }
 
     /// Every configuration, in row order.
@@ -359,14 +387,17 @@ impl Grid {
                     for &depth in &self.depths {
                         for &speedups in &self.speedups {
                             for &cutoff in self.cutoffs.iter().filter(|&&c| depth > 1 || c == 0.0) {
-                                out.push(Config {
-                                    processor,
-                                    recip,
-                                    sqrt,
-                                    depth,
-                                    speedups,
-                                    cutoff,
-                                });
+                                for &opaque_glass in &self.opaque_glass {
+                                    out.push(Config {
+                                        processor,
+                                        recip,
+                                        sqrt,
+                                        depth,
+                                        speedups,
+                                        cutoff,
+                                        opaque_glass,
+                                    });
+                                }
                             }
                         }
                     }
@@ -398,6 +429,10 @@ pub struct Row {
     pub shadow_shortcut: bool,
     /// `[render] weight_cutoff` (0: off).
     pub weight_cutoff: f32,
+    /// The glass drawn opaque (every transmission 0): a build without
+    /// refraction. Absent (false) in the CSV of an older rtcosim.
+    #[serde(default)]
+    pub opaque_glass: bool,
     /// Mean cycles per pixel (the micro-op model's = the RTL's): a pixel's
     /// cycles from its start to its end; on the fast processor, from the
     /// turn that took it to its done turn, 32 pixels in flight.
@@ -471,6 +506,7 @@ impl Row {
                 shadow_shortcut: self.shadow_shortcut,
             },
             cutoff: self.weight_cutoff,
+            opaque_glass: self.opaque_glass,
         }
     }
 }
@@ -563,7 +599,8 @@ pub enum SweepError {
 
 /// Refuses a sweep of `scene` over `grid` before it runs if the cost table
 /// cannot price a build the grid needs (every processor and method pair,
-/// with the exponential as the scene needs it), naming the build.
+/// with the exponential and refraction as the scene needs them), naming the
+/// build.
 pub fn check_costs(name: &str, scene: &Scene, grid: &Grid) -> Result<(), SweepError> {
     let cost = |source| SweepError::Cost {
         scene: name.into(),
@@ -573,7 +610,7 @@ pub fn check_costs(name: &str, scene: &Scene, grid: &Grid) -> Result<(), SweepEr
     for &p in &grid.processors {
         for &r in &grid.recips {
             for &q in &grid.sqrts {
-                let build = Build::for_scene(p, r, q, scene.render.exposure.is_some());
+                let build = Build::for_scene(p, r, q, scene);
                 table.build_for(build).map_err(|e| cost(e.clone()))?;
             }
         }
@@ -605,7 +642,7 @@ pub fn sweep_scene(
     progress: &(dyn Fn(u64) + Sync),
 ) -> SceneSweep {
     let results: Vec<Result<Row, Skipped>> = grid
-        .configs()
+        .configs_for(scene)
         .par_iter()
         .map(|config| {
             let result = measure_config(name, config, scene, reference, clock_hz);
@@ -727,6 +764,7 @@ fn measure(
         fast_plane: config.speedups.fast_plane,
         shadow_shortcut: config.speedups.shadow_shortcut,
         weight_cutoff: config.cutoff,
+        opaque_glass: config.opaque_glass,
         cycles_per_pixel,
         max_cycles,
         frame_cycles,

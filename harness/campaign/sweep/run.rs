@@ -95,11 +95,23 @@ impl RunConfig {
             .collect()
     }
 
-    /// The work list: (scene position, configuration), in CSV row order.
+    /// The work list: (scene position, configuration), in CSV row order;
+    /// a scene without glass takes no configuration with the glass opaque
+    /// ([`Grid::configs_for`]). (A scene whose text does not read counts
+    /// as without glass here; [`RunConfig::load_scenes`] refuses it.)
     pub fn work(&self) -> Vec<(usize, Config)> {
         let configs = self.grid().configs();
-        (0..self.scenes.len())
-            .flat_map(|s| configs.iter().map(move |&c| (s, c)))
+        self.scenes
+            .iter()
+            .enumerate()
+            .flat_map(|(s, named)| {
+                let glass =
+                    Scene::from_toml(&named.toml, &named.name).is_ok_and(|scene| scene.refracts());
+                configs
+                    .iter()
+                    .filter(move |c| glass || !c.opaque_glass)
+                    .map(move |&c| (s, c))
+            })
             .collect()
     }
 

@@ -87,7 +87,8 @@ impl Cost {
     /// the tie-breaks: fewer frame cycles, the smaller stack, the fast
     /// reciprocal, the fast square root (each the smaller unit:
     /// docs/accuracy.md, "Tuning", the area table), the compact processor
-    /// (the smaller), the larger cutoff. Within one build device frames/s
+    /// (the smaller), the larger cutoff, the glass opaque (a build without
+    /// refraction). Within one build device frames/s
     /// and cycles rank alike; the method tie-break is reached only by a
     /// scene that never divides or takes a root.
     pub fn order(self, a: &Row, b: &Row) -> Ordering {
@@ -118,6 +119,7 @@ impl Cost {
         first
             .then(key(a).cmp(&key(b)))
             .then(b.weight_cutoff.total_cmp(&a.weight_cutoff))
+            .then(b.opaque_glass.cmp(&a.opaque_glass))
     }
 }
 
@@ -339,6 +341,7 @@ mod tests {
             fast_plane: false,
             shadow_shortcut: false,
             weight_cutoff: cutoff,
+            opaque_glass: false,
             cycles_per_pixel: frame_cycles as f64,
             max_cycles: frame_cycles,
             frame_cycles,
@@ -428,6 +431,10 @@ mod tests {
             row(101, 4, Exact, Exact, 1.0 / 64.0), // then the compact processor
             on_fast(row(101, 4, Exact, Exact, 1.0 / 2.0)), // then the larger cutoff
             on_fast(row(101, 4, Exact, Exact, 1.0 / 16.0)),
+            Row {
+                opaque_glass: true, // then the glass opaque
+                ..on_fast(row(101, 4, Exact, Exact, 0.0))
+            },
             on_fast(row(101, 4, Exact, Exact, 0.0)),
         ];
         for cost in [Cost::Cycles, Cost::DeviceFps, Cost::Area] {
@@ -476,15 +483,25 @@ mod tests {
 
     #[test]
     fn the_tune_grid_has_both_processors_and_every_depth_method_pair_and_cutoff_once() {
-        let g = Grid::tune(Speedups::default()).configs();
-        // Per processor, depth 1: 4 method pairs, no cutoff; depths 2..=8:
-        // 4 x 9.
-        assert_eq!(g.len(), 2 * (4 + 7 * 4 * sweep::CUTOFFS.len()));
-        for (i, a) in g.iter().enumerate() {
-            assert!(!g[i + 1..].contains(a), "{a:?} twice");
-        }
-        for p in ProcessorKind::ALL {
-            assert_eq!(g.iter().filter(|c| c.processor == p).count(), g.len() / 2);
+        let grid = Grid::tune(Speedups::default());
+        let opaque = Scene::reference();
+        let glass = Scene::builtin("glass_room").expect("a builtin");
+        for (scene, glasses) in [(&opaque, 1), (&glass, 2)] {
+            let g = grid.configs_for(scene);
+            // Per processor, depth 1: 4 method pairs, no cutoff; depths
+            // 2..=8: 4 x 9; each with the glass as it is, and for a scene
+            // with glass opaque too.
+            assert_eq!(g.len(), 2 * (4 + 7 * 4 * sweep::CUTOFFS.len()) * glasses);
+            for (i, a) in g.iter().enumerate() {
+                assert!(!g[i + 1..].contains(a), "{a:?} twice");
+            }
+            for p in ProcessorKind::ALL {
+                assert_eq!(g.iter().filter(|c| c.processor == p).count(), g.len() / 2);
+            }
+            assert_eq!(
+                g.iter().filter(|c| c.opaque_glass).count(),
+                g.len() * (glasses - 1) / 2
+            );
         }
     }
 }

@@ -119,6 +119,27 @@ pub fn explain(out: &mut impl Write, t: &Tuned, best: &Row) -> Result<()> {
             )?;
         }
     }
+    // The glass the other way (a scene with glass only: the grid holds
+    // both): opaque is a build without refraction.
+    if let Some(r) = t.neighbour(|x| x.opaque_glass = !x.opaque_glass) {
+        writeln!(
+            out,
+            "  {}: {:.1} device frames/s, {:+.1} cycles/pixel, {m} error {:.4}{}",
+            if r.opaque_glass {
+                "the glass opaque (a build without refraction)"
+            } else {
+                "the glass refracting (a build with refraction)"
+            },
+            r.device_fps,
+            frame_cycles_per_pixel(r) - frame_cycles_per_pixel(best),
+            err(r),
+            if err(r) > t.target {
+                " (misses the target)"
+            } else {
+                ""
+            }
+        )?;
+    }
     // The nearest configuration on each other processor.
     for other in ProcessorKind::ALL
         .into_iter()
@@ -187,6 +208,12 @@ pub fn rtl_build(
         c.speedups.fast_plane,
         c.speedups.shadow_shortcut
     )?;
+    if c.opaque_glass {
+        writeln!(
+            out,
+            "scene glass: opaque (every sphere's transmission = 0): nothing refracts, and the build has no refraction (REFRACTION = 0; co-simulated as the build with it, which a scene without glass runs state for state)"
+        )?;
+    }
     if c.depth < BUILT_STACK_DEPTH {
         writeln!(
             out,
