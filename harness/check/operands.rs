@@ -172,7 +172,9 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
 /// `fp_recip` operands that kill mutants the other edge cases and the
 /// random operands miss, each the smallest bit pattern that does, found by
 /// exhaustive simulation (`examples/mutant_exhaustive.rs`, docs/mutation.md),
-/// with the mutant. Two are results below the normal range (a of exponent
+/// with the mutant. (In every `*_MUTANT_KILLERS` the mutant IDs are of the
+/// lists of commit bf3ae96; today's lists, drawn again for refraction,
+/// number their mutants otherwise. The operands stay edge cases.) Two are results below the normal range (a of exponent
 /// field 253 or 254), where the rounding drops one or two more bits.
 pub const RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
     (0x7F00_1001, 89),   // 3M's bit 13 inverted (fp_recip.v:145): 1 operand of 25.2M
