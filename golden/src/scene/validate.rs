@@ -389,8 +389,9 @@ impl Check<'_> {
     /// object (docs/scenes.md, "Refraction"), which is exact only if no
     /// other object reaches inside. So a transparent sphere may touch
     /// another sphere or a plane but not cut into it, and the eye and the
-    /// light lie outside it. (f64 of the f32 values: the differences and
-    /// the squares are exact.)
+    /// light lie outside it. (Compared in f64 on the f32 values: a touch is
+    /// decided within f64's rounding of the squared distances, far below
+    /// f32's resolution of the scene.)
     fn refraction(
         &self,
         camera: &Camera,
