@@ -259,8 +259,8 @@ fn listed(m: &Model) -> (&'static str, String) {
                 format!("{}, {name:?}", fp_model(module, method.as_deref())),
             )
         }
-        (What::MutantUnit { module }, _) => {
-            ("RTCOSIM_FP_MUT_MODELS", fp_model(module, Some("exact")))
+        (What::MutantUnit { module, method }, _) => {
+            ("RTCOSIM_FP_MUT_MODELS", fp_model(module, *method))
         }
         (What::FastAlu { .. }, _) => ("RTCOSIM_FAST_ALU_MODELS", String::new()),
         (
@@ -462,7 +462,7 @@ fn job(m: &Model, dirs: &Dirs, methods: &[(String, u32)], s: &Sources) -> Result
                 j.params.push(("METHOD", code(methods, method)?));
             }
         }
-        What::MutantUnit { module } => {
+        What::MutantUnit { module, .. } => {
             j.top = module;
             let rtl = if module.starts_with("fast_") {
                 Rtl::Fast

@@ -119,8 +119,13 @@ pub enum What {
         module: &'static str,
         method: Option<String>,
     },
-    /// A float unit cut from a processor's mutant netlist.
-    MutantUnit { module: &'static str },
+    /// A float unit cut from a processor's mutant netlist, which is built
+    /// with the exact methods: `method` is `exact` for a unit that has
+    /// methods, None for one that has none.
+    MutantUnit {
+        module: &'static str,
+        method: Option<&'static str>,
+    },
     /// The fast processor's ALU (`rtl/fast/fast_alu.v`).
     FastAlu {
         recip: String,
@@ -282,7 +287,10 @@ pub fn table(methods: &[&str], extra_tops: &[(Rtl, u32, String, String)]) -> Vec
             }
             rows.push(Model {
                 class: mutant_unit_class(module),
-                what: What::MutantUnit { module },
+                what: What::MutantUnit {
+                    module,
+                    method: has_method.then_some(EXACT),
+                },
                 flavour: Flavour::Mutant,
                 features: needs(&[Flavour::Mutant.feature()]),
             });
@@ -390,3 +398,37 @@ pub fn table(methods: &[&str], extra_tops: &[(Rtl, u32, String, String)]) -> Vec
 /// The cargo features `full` turns on: every plain model and waveform
 /// twin, the ones the test suite runs.
 pub const FULL: [&str; 4] = ["fast", "methods", "tops", "waves"];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A float unit cut from a mutant netlist is checked against the golden
+    /// model of the same unit alone (the C++ driver names it by module and
+    /// method, `FpModel::RecipExact`, `FpModel::Add`): each mutant unit's
+    /// module and method are those of a unit row.
+    #[test]
+    fn every_mutant_unit_is_checked_as_a_unit_of_the_table() {
+        let rows = table(&[EXACT, "fast"], &[]);
+        let units: Vec<(&str, Option<&str>)> = rows
+            .iter()
+            .filter_map(|m| match &m.what {
+                What::Unit { module, method } => Some((*module, method.as_deref())),
+                _ => None,
+            })
+            .collect();
+        let mutants: Vec<(&str, Option<&str>)> = rows
+            .iter()
+            .filter_map(|m| match &m.what {
+                What::MutantUnit { module, method } => Some((*module, *method)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(mutants.len(), 12, "{mutants:?}");
+        for m in &mutants {
+            assert!(units.contains(m), "mutant unit {m:?} is no unit row");
+        }
+        assert!(mutants.contains(&("fp_add", None)));
+        assert!(mutants.contains(&("fast_fp_sqrt", Some(EXACT))));
+    }
+}
