@@ -1521,8 +1521,8 @@ module fast_ctrl #(
     always @(posedge clk) begin
         a0_e    <= a0_c;
         a1_e    <= a1_c;
-        plan0_e <= plan(decoded_st(a0_c[J_ST +: SW], REFRACTION != 0));
-        plan1_e <= plan(decoded_st(a1_c[J_ST +: SW], REFRACTION != 0));
+        plan0_e <= (REFRACTION == 0 && a0_c[J_ST +: SW] >= `ISA_ST_RF_NSUB) ? plan(`ISA_DIM_ST_NONE) : plan(a0_c[J_ST +: SW]);
+        plan1_e <= (REFRACTION == 0 && a1_c[J_ST +: SW] >= `ISA_ST_RF_NSUB) ? plan(`ISA_DIM_ST_NONE) : plan(a1_c[J_ST +: SW]);
         code_e  <= code_c;
     end
 

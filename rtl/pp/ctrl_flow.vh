@@ -105,9 +105,9 @@
     endfunction
 
     // The state a controller decodes: st, or, in a build without
-    // refraction (refraction = 0), no state for a refraction state
-    // (ISA_ST_RF_*, the ids from ISA_ST_RF_NSUB up): their arms are then
-    // none of its logic, and neither is anything only they reach.
+    // refraction (refraction = 0), no state (ISA_DIM_ST_NONE, below 128 as
+    // every id is) for a refraction state (the ids from ISA_ST_RF_NSUB up):
+    // their arms are then none of its logic, nor is anything only they reach.
     function [SW-1:0] decoded_st(input [SW-1:0] st, input refraction);
-        decoded_st = (refraction || st < `ISA_ST_RF_NSUB) ? st : {SW{1'b1}};
+        decoded_st = (refraction || st < `ISA_ST_RF_NSUB) ? st : `ISA_DIM_ST_NONE;
     endfunction

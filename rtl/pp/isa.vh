@@ -35,6 +35,7 @@
 `define ISA_DIM_OP_BITS 6    // opcode field
 `define ISA_DIM_REG_BITS 8   // register address (256 vector registers; 136 named)
 `define ISA_DIM_ST_BITS 9    // controller FSM state id
+`define ISA_DIM_ST_NONE 1    // an id no state has, below 128: a controller without refraction decodes the RF_* ids as it (ctrl_flow.vh)
 `define ISA_DIM_COORD_BITS 12  // pixel coordinates px, py (images up to 4096 x 4096)
 `define ISA_DIM_LANES 3        // lanes of a vector register (x, y, z: one float32 each) and of a lane mask
 
@@ -254,64 +255,65 @@
 `define ISA_ST_SH_COLOUR 79        // ray colour = w * local
 `define ISA_ST_SH_CHILD_W 80       // child weight = w * kr
 // Unwinding the stack.
-`define ISA_ST_POP_ADD 90          // PAR_COL = PAR_COL + CUR_COL
-`define ISA_ST_POP_MOV 91          // PAR_COL = CUR_COL (the parent got no light)
-`define ISA_ST_ROOT_BLACK 92       // STK0_COL = ZERO (no light reached the pixel)
+`define ISA_ST_POP_ADD 84          // PAR_COL = PAR_COL + CUR_COL
+`define ISA_ST_POP_MOV 85          // PAR_COL = CUR_COL (the parent got no light)
+`define ISA_ST_ROOT_BLACK 86       // STK0_COL = ZERO (no light reached the pixel)
 // The refracted child of a hit on transparent sphere k (docs/scenes.md,
 // "Refraction"), spawned into level sp when the hit's reflected subtree has
 // been added into its colour, or at once without one: p in CUR_O (SH_POINT
 // wrote it there), d in PAR_D, eta = TRNk.x, ior = TRNk.y, kt = TRNk.z.
-// These are the ids from 100 up, and only these: a controller built
+// These are the ids from 90 up, and only these: a controller built
 // without refraction (REFRACTION = 0) decodes none of them (ctrl_flow.vh,
-// decoded_st).
+// decoded_st). Every state id is below 128: a 7-bit id keeps the fast
+// controller's decodes of it within 4 LUT levels (docs/fast.md).
 // Into the sphere (Snell, eta):
-`define ISA_ST_RF_NSUB 100         // N = p - c
-`define ISA_ST_RF_NSCALE 101       // N = n = (p - c) * 1/r (then Q.x = d.n by DOT)
-`define ISA_ST_RF_COS2 102         // U.x = (d.n)^2
-`define ISA_ST_RF_SIN2 103         // U.x = 1 - (d.n)^2
-`define ISA_ST_RF_ETA1 104         // U.x = U.x * eta (MULX)
-`define ISA_ST_RF_ETA2 105         // U.x = U.x * eta: eta^2 sin^2
-`define ISA_ST_RF_K 106            // U.x = k = 1 - eta^2 sin^2; k < 0: total internal reflection
-`define ISA_ST_RF_SQRT 107         // U.x = sqrt(k)
-`define ISA_ST_RF_EDN 108          // G.x = (d.n) * eta
-`define ISA_ST_RF_COEF 109         // G.x = eta (d.n) + sqrt(k)
-`define ISA_ST_RF_ED 110           // V = d * eta
-`define ISA_ST_RF_CN 111           // S = n * G.x
-`define ISA_ST_RF_DIR 112          // R = t = eta d - (eta (d.n) + sqrt k) n
+`define ISA_ST_RF_NSUB 90          // N = p - c
+`define ISA_ST_RF_NSCALE 91        // N = n = (p - c) * 1/r (then Q.x = d.n by DOT)
+`define ISA_ST_RF_COS2 92          // U.x = (d.n)^2
+`define ISA_ST_RF_SIN2 93          // U.x = 1 - (d.n)^2
+`define ISA_ST_RF_ETA1 94          // U.x = U.x * eta (MULX)
+`define ISA_ST_RF_ETA2 95          // U.x = U.x * eta: eta^2 sin^2
+`define ISA_ST_RF_K 96             // U.x = k = 1 - eta^2 sin^2; k < 0: total internal reflection
+`define ISA_ST_RF_SQRT 97          // U.x = sqrt(k)
+`define ISA_ST_RF_EDN 98           // G.x = (d.n) * eta
+`define ISA_ST_RF_COEF 99          // G.x = eta (d.n) + sqrt(k)
+`define ISA_ST_RF_ED 100           // V = d * eta
+`define ISA_ST_RF_CN 101           // S = n * G.x
+`define ISA_ST_RF_DIR 102          // R = t = eta d - (eta (d.n) + sqrt k) n
 // Across it: the far root of the sphere test from p along t.
-`define ISA_ST_RF_CV 113           // V = p - c (then Q.x = b = v.t by DOT)
-`define ISA_ST_RF_CBD 114          // U = -b t
-`define ISA_ST_RF_CW 115           // V = w = v - b t (then S.x = disc = r*r - w.w by ISECT)
-`define ISA_ST_RF_CSQRT 116        // S.x = sqrt(disc)
-`define ISA_ST_RF_CS 117           // S.x = s = sqrt(disc) - b
-`define ISA_ST_RF_CST 118          // U = t * s
-`define ISA_ST_RF_EXIT 119         // CUR_O = p + s t: the exit point
+`define ISA_ST_RF_CV 103           // V = p - c (then Q.x = b = v.t by DOT)
+`define ISA_ST_RF_CBD 104          // U = -b t
+`define ISA_ST_RF_CW 105           // V = w = v - b t (then S.x = disc = r*r - w.w by ISECT)
+`define ISA_ST_RF_CSQRT 106        // S.x = sqrt(disc)
+`define ISA_ST_RF_CS 107           // S.x = s = sqrt(disc) - b
+`define ISA_ST_RF_CST 108          // U = t * s
+`define ISA_ST_RF_EXIT 109         // CUR_O = p + s t: the exit point
 // Out of it (Snell, ior, against the inward normal).
-`define ISA_ST_RF_OSUB 120         // N = exit - c
-`define ISA_ST_RF_OSCALE 121       // N = n' (then Q.x = t.n' = cos by DOT)
-`define ISA_ST_RF_OCOS2 122        // U.x = cos^2
-`define ISA_ST_RF_OSIN2 123        // U.x = 1 - cos^2
-`define ISA_ST_RF_OIOR1 124        // U.x = U.x * ior (MULY)
-`define ISA_ST_RF_OIOR2 125        // U.x = U.x * ior: ior^2 sin^2
-`define ISA_ST_RF_OK 126           // U.x = k' = 1 - ior^2 sin^2; k' < 0 (by rounding only): taken as 0
-`define ISA_ST_RF_OSQRT 127        // U.x = sqrt(k')
-`define ISA_ST_RF_OEDN 128         // G.x = cos * ior
-`define ISA_ST_RF_OCOEF 129        // G.x = ior cos - sqrt(k') (skipped when k' is taken as 0)
-`define ISA_ST_RF_OED 130          // V = t * ior
-`define ISA_ST_RF_OCN 131          // S = n' * G.x
-`define ISA_ST_RF_ODIR 132         // CUR_D = ior t - (ior cos - sqrt k') n'; latches the direction's sign flags
+`define ISA_ST_RF_OSUB 110         // N = exit - c
+`define ISA_ST_RF_OSCALE 111       // N = n' (then Q.x = t.n' = cos by DOT)
+`define ISA_ST_RF_OCOS2 112        // U.x = cos^2
+`define ISA_ST_RF_OSIN2 113        // U.x = 1 - cos^2
+`define ISA_ST_RF_OIOR1 114        // U.x = U.x * ior (MULY)
+`define ISA_ST_RF_OIOR2 115        // U.x = U.x * ior: ior^2 sin^2
+`define ISA_ST_RF_OK 116           // U.x = k' = 1 - ior^2 sin^2; k' < 0 (by rounding only): taken as 0
+`define ISA_ST_RF_OSQRT 117        // U.x = sqrt(k')
+`define ISA_ST_RF_OEDN 118         // G.x = cos * ior
+`define ISA_ST_RF_OCOEF 119        // G.x = ior cos - sqrt(k') (skipped when k' is taken as 0)
+`define ISA_ST_RF_OED 120          // V = t * ior
+`define ISA_ST_RF_OCN 121          // S = n' * G.x
+`define ISA_ST_RF_ODIR 122         // CUR_D = ior t - (ior cos - sqrt k') n'; latches the direction's sign flags
 // Total internal reflection at the entry: the mirror ray from p.
-`define ISA_ST_RF_TIR_K 133        // U = 2 (d.n) n (MUL2X)
-`define ISA_ST_RF_TIR 134          // CUR_D = d - 2 (d.n) n; latches the direction's sign flags
-`define ISA_ST_RF_CHILD_W 135      // CUR_W = PAR_W * kt (MULZ)
+`define ISA_ST_RF_TIR_K 123        // U = 2 (d.n) n (MUL2X)
+`define ISA_ST_RF_TIR 124          // CUR_D = d - 2 (d.n) n; latches the direction's sign flags
+`define ISA_ST_RF_CHILD_W 125      // CUR_W = PAR_W * kt (MULZ)
 // Weight cutoff of the refracted child (with ISA_DIM_CFG_CUTOFF_LSB set, at
 // the hit): no child whose weight w * kt < c.
-`define ISA_ST_RF_CUT_W 136        // U.z = CUR_W.z * kt (MULZ)
-`define ISA_ST_RF_CUT_CMP 137      // G.z = U.z - c < 0: no refracted child
+`define ISA_ST_RF_CUT_W 126        // U.z = CUR_W.z * kt (MULZ)
+`define ISA_ST_RF_CUT_CMP 127      // G.z = U.z - c < 0: no refracted child
 // Exposure (thesis 3.7; with ISA_DIM_CFG_EXPOSURE_LSB set, after the
 // unwinding, before PIX_DONE): STK0_COL = 1 - e^(exposure * STK0_COL).
-`define ISA_ST_EXPO_MUL 93         // U = STK0_COL * exposure (MULX, ROT0_S lane x)
-`define ISA_ST_EXPO_EXP 94         // U = e^U (EXP, every lane)
-`define ISA_ST_EXPO_SUB 95         // STK0_COL = ONE - U
+`define ISA_ST_EXPO_MUL 87         // U = STK0_COL * exposure (MULX, ROT0_S lane x)
+`define ISA_ST_EXPO_EXP 88         // U = e^U (EXP, every lane)
+`define ISA_ST_EXPO_SUB 89         // STK0_COL = ONE - U
 
 `endif

@@ -27,6 +27,10 @@
 #                                          # it without fp_exp (EXPOSURE = 0), norefr
 #                                          # without refraction (REFRACTION = 0),
 #                                          # noexp-norefr without either
+#   rtl/synth/synth.sh xc6v fast-ctrl exact # the fast processor's controller alone
+#                                          # (rtl/fast/fast_ctrl.v, its ports as they are;
+#                                          # methods: no effect; norefr: REFRACTION = 0):
+#                                          # its own LUT depth, 1 to 2 min
 #   rtl/synth/synth.sh xc6v fast-regfile exact # the fast processor's register file
 #                                          # (rtl/fast/fast_regfile.v; methods: no effect)
 #   rtl/synth/synth.sh xc6v ctrl exact     # pp_ctrl alone between registers
@@ -47,7 +51,7 @@
 set -euo pipefail
 
 usage() {
-    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-regfile|ctrl exact|fast|exact-fast|fast-exact [N|noexp|norefr|noexp-norefr]" >&2
+    echo "usage: $0 xc6v|ecp5|generic pp|top|fast-top|add|mul|fast-add|fast-mul|fast-itof|fast-recip|fast-sqrt|fast-exp|fast-alu|fast-pp|fast-ctrl|fast-regfile|ctrl exact|fast|exact-fast|fast-exact [N|noexp|norefr|noexp-norefr]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
@@ -156,6 +160,26 @@ fast-pp)
     # MUXF8) whose depth changes with the netlist around them (docs/fast.md,
     # "The processor, measured"); LUT6 alone keeps every path as deep as
     # its LUT levels, the measure report.py's estimate is made for.
+    if [ "$device" = xc6v ]; then synth="$synth -nowidelut"; fi
+    ;;
+fast-ctrl)
+    # The fast processor's controller alone, its ports as they are (out of
+    # context: a path from an input port counts from the port). abc maps the
+    # flattened processor anew on any change, so paths whose RTL did not
+    # change move by a LUT level between netlists; the controller alone
+    # maps as its own RTL says, which is the measure of its LUT depth.
+    case $n in
+    "") refraction=1 ;;
+    norefr) refraction=0 ;;
+    *) echo "$0: the controller's 4th argument is norefr or nothing, not '$n'" >&2; exit 2 ;;
+    esac
+    out=$device-fast-ctrl${n:+-$n}
+    top=fast_ctrl
+    read="read_verilog $inc -Irtl/fast rtl/pp/mem_ctrl.v rtl/fast/fast_delay.v rtl/fast/fast_ctrl.v"
+    # LATENCY: fast_alu's with exposure (fast_defs.vh); CTX_BITS and
+    # STACK_DEPTH the RTL's defaults.
+    latency=$(sed -n 's/^`define FAST_ALU_LATENCY \([0-9]*\).*/\1/p' rtl/fast/fast_defs.vh)
+    params="-chparam LATENCY $latency -chparam REFRACTION $refraction"
     if [ "$device" = xc6v ]; then synth="$synth -nowidelut"; fi
     ;;
 fast-regfile)

@@ -331,6 +331,30 @@ mod tests {
     use crate::micro::isa_parse;
     use std::collections::HashSet;
 
+    /// The refraction states are the ids from RF_NSUB up, and only these
+    /// (a controller built without refraction decodes no id from there up:
+    /// ctrl_flow.vh's decoded_st), and every id is below 128 (bits 7 and up
+    /// of a state stay 0, so the fast controller's decodes of a 7-bit id
+    /// stay within 4 LUT levels: docs/fast.md).
+    #[test]
+    fn refraction_states_are_the_ids_from_rf_nsub_up_and_every_id_fits_7_bits() {
+        for (name, id) in STATES {
+            assert_eq!(
+                name.starts_with("RF_"),
+                *id >= state::RF_NSUB,
+                "{name} = {id}"
+            );
+            assert!(*id < 128, "{name} = {id}");
+            // What a controller without refraction decodes an RF id as.
+            assert_ne!(
+                usize::from(*id),
+                dim::ST_NONE,
+                "{name} has ISA_DIM_ST_NONE's id"
+            );
+        }
+        assert!(dim::ST_NONE < 128);
+    }
+
     #[test]
     fn codes_are_unique_within_each_kind() {
         let ops: HashSet<u8> = OPS.iter().map(|o| o.1).collect();
