@@ -208,15 +208,17 @@ list)
     tmp=$(mktemp)
     trap 'rm -f "$tmp"' EXIT
     yosys -q -p "read_rtlil $il; mutate -list $count -seed $seed -o $tmp" >/dev/null
+    unwritable=' -port (RD_ARST|RD_SRST|RD_CLK|RD_EN|WR_CLK) '
     {
         echo "# Mutants of $top (PP_TRACE, exact methods), listed by"
         echo "# ${blackbox:+MUTATE_BLACKBOX=\"$blackbox\" }${MUTATE_DESIGN:+MUTATE_DESIGN=$top }rtl/mutate/mutants.sh list $count $seed: yosys mutate -list $count -seed $seed."
         echo "# rtl fnv1a64 $(rtl_hash)"
         echo "# $(yosys -V)"
         [ -z "$blackbox" ] || echo "# black boxes: $blackbox"
-        echo "# Left out: mutations of a memory's clock or read-reset ports (write_verilog"
-        echo "# cannot write such a memory): $(grep -cE ' -port (RD_ARST|RD_SRST|RD_CLK|WR_CLK) ' "$tmp" || true)."
-        grep -vE ' -port (RD_ARST|RD_SRST|RD_CLK|WR_CLK) ' "$tmp" | awk '{ print NR, $0 }'
+        echo "# Left out: mutations of a memory's clock, read-enable or read-reset ports"
+        echo "# (write_verilog cannot write such a memory; every read port of these designs"
+        echo "# is asynchronous, its enable the constant 1): $(grep -cE "$unwritable" "$tmp" || true)."
+        grep -vE "$unwritable" "$tmp" | awk '{ print NR, $0 }'
     } > "$list_file"
     echo "mutants.sh: $(grep -vc '^#' "$list_file") mutants in $list_file"
     ;;
