@@ -98,7 +98,12 @@ macro_rules! directed {
 /// six_planes, grazing_overflow, straight_up, and for the fast processor
 /// six_planes_bare, planes_shortcut, cutoff_odd and pure_mirrors) are
 /// written framed, and were checked to reach their states in golden's
-/// trace (or to kill their mutants) before they joined.
+/// trace (or to kill their mutants) before they joined; so are the glass
+/// scenes (glass_deep ... glass_owed), the last two found rather than
+/// written: scenes of a family drawn at random, each traced by golden,
+/// the first whose trace shows the order of events its mutant needs kept.
+/// large_frame is judged on two windows, one where each coordinate's high
+/// bits move.
 pub const DIRECTED: &[Directed] = &[
     directed!("planes_z_first", None, None),
     directed!("planes_x_last", None, None),
@@ -116,11 +121,17 @@ pub const DIRECTED: &[Directed] = &[
     directed!("six_planes", None, None),
     directed!("grazing_overflow", None, None),
     directed!("large_frame", Some(Window::new(126, 2046, 4, 4)), None),
+    directed!("large_frame", Some(Window::new(2046, 126, 4, 4)), None),
     directed!("straight_up", Some(Window::new(1, 129, 1, 1)), None),
     directed!("six_planes_bare", None, None),
     directed!("planes_shortcut", None, None),
     directed!("cutoff_odd", None, None),
     directed!("pure_mirrors", None, None),
+    directed!("glass_deep", None, None),
+    directed!("glass_shortcut", None, None),
+    directed!("glass_corridor", None, None),
+    directed!("glass_escape", None, None),
+    directed!("glass_owed", None, None),
 ];
 
 /// The judge's directed-scene checks: every file of [`DIRECTED`] as
