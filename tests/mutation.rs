@@ -634,67 +634,41 @@ fn a_unit_whose_y_does_not_hold_between_results_is_caught() {
     }
 }
 
-/// The operands exhaustive simulation found (examples/mutant_exhaustive.rs;
-/// docs/mutation.md) are in the units' edge cases, and each tells its
-/// mutant from golden while the unmutated unit agrees: mutants 89, 393,
-/// 420, 474, 768, 1087 of fp_recip and 686, 872 of fp_sqrt, which survived
-/// the campaign's edge cases and 10,000 random operands; and the fast
-/// processor's (its list's numbers), found by exhaustive simulation of its
-/// pipelined recip, sqrt and exp and by `mutants.sh miter`'s
-/// counterexamples in its adder and multiplier.
+/// Each hard operand of `MUTANT_KILLERS` (found by exhaustive simulation,
+/// examples/mutant_exhaustive.rs, or by `mutants.sh miter`'s
+/// counterexample; docs/mutation.md) is an edge case of its unit, and
+/// tells its mutant of today's list from golden while the unmutated unit
+/// agrees.
 #[cfg(feature = "mutation")]
 #[test]
-fn the_operands_exhaustive_simulation_found_kill_their_mutants() {
-    use golden::fp::Method;
-    use rtcosim::check::operands::{
-        edge_cases, EXP_MUTANT_KILLERS, FAST_ADD_MUTANT_KILLERS, FAST_EXP_MUTANT_KILLERS,
-        FAST_MUL_MUTANT_KILLERS, FAST_RECIP_MUTANT_KILLERS, FAST_SQRT_MUTANT_KILLERS,
-        RECIP_MUTANT_KILLERS, SQRT_MUTANT_KILLERS,
-    };
-    use rtcosim::design::fp_unit::{FpUnit, UnitKind};
-    let unary = |killers: &[(u32, u16)]| -> Vec<(u32, u32, u16)> {
-        killers.iter().map(|&(a, id)| (a, 0, id)).collect()
-    };
-    for (kind, killers) in [
-        (UnitKind::Recip(Method::Exact), unary(RECIP_MUTANT_KILLERS)),
-        (UnitKind::Sqrt(Method::Exact), unary(SQRT_MUTANT_KILLERS)),
-        (UnitKind::Exp, unary(EXP_MUTANT_KILLERS)),
-        (
-            UnitKind::FastRecip(Method::Exact),
-            unary(FAST_RECIP_MUTANT_KILLERS),
-        ),
-        (
-            UnitKind::FastSqrt(Method::Exact),
-            unary(FAST_SQRT_MUTANT_KILLERS),
-        ),
-        (UnitKind::FastExp, unary(FAST_EXP_MUTANT_KILLERS)),
-        (UnitKind::FastAdd, FAST_ADD_MUTANT_KILLERS.to_vec()),
-        (UnitKind::FastMul, FAST_MUL_MUTANT_KILLERS.to_vec()),
-    ] {
+fn the_hard_operands_kill_their_mutants() {
+    use rtcosim::check::operands::{edge_cases, MUTANT_KILLERS};
+    use rtcosim::design::fp_unit::FpUnit;
+    assert!(!MUTANT_KILLERS.is_empty());
+    for killer in MUTANT_KILLERS {
+        let (kind, a, b, id) = (killer.unit, killer.a, killer.b, killer.mutant);
         let (edges_a, edges_b) = edge_cases(kind);
-        for (a, b, id) in killers {
-            let is_edge = (0..edges_a.len())
-                .any(|i| edges_a[i] == a && (!kind.is_binary() || edges_b[i] == b));
-            assert!(
-                is_edge,
-                "({a:#010x}, {b:#010x}) (mutant {id}) is not an edge case of {kind}"
-            );
-            let want = kind.golden(a, b);
-            let y = |id| {
-                let bs = [b];
-                FpUnit::new_mutant(kind, id)
-                    .expect("the unit")
-                    .eval(&[a], if kind.is_binary() { &bs } else { &[] })
-                    .expect("eval")
-                    .0[0]
-            };
-            assert_eq!(y(0), want, "{kind} unmutated on {a:#010x}, {b:#010x}");
-            assert_ne!(
-                y(id),
-                want,
-                "mutant {id} of {kind} agrees with golden on {a:#010x}, {b:#010x}"
-            );
-        }
+        let is_edge =
+            (0..edges_a.len()).any(|i| edges_a[i] == a && (!kind.is_binary() || edges_b[i] == b));
+        assert!(
+            is_edge,
+            "({a:#010x}, {b:#010x}) (mutant {id}) is not an edge case of {kind}"
+        );
+        let want = kind.golden(a, b);
+        let y = |id| {
+            let bs = [b];
+            FpUnit::new_mutant(kind, id)
+                .expect("the unit")
+                .eval(&[a], if kind.is_binary() { &bs } else { &[] })
+                .expect("eval")
+                .0[0]
+        };
+        assert_eq!(y(0), want, "{kind} unmutated on {a:#010x}, {b:#010x}");
+        assert_ne!(
+            y(id),
+            want,
+            "mutant {id} of {kind} agrees with golden on {a:#010x}, {b:#010x}"
+        );
     }
 }
 
@@ -715,23 +689,19 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
     use rtcosim::design::processor::ProcessorKind;
     use rtcosim::design::top::Stall;
     use rtcosim::design::Design;
-    let spec = JudgeSpec {
-        width: 16,
-        height: 12,
-        fuzz_seed: 1,
-        fuzz_count: 4,
-        unit_operands: 0,
-        // glass_shortcut's and glass_corridor's deepest pixels take more
-        // than DEFAULT_TIMEOUT_CYCLES on the fast processor, whose 32
-        // contexts share its pipeline (a pixel of 4,265 compact cycles);
-        // `mutate --processor fast` needs `--timeout-cycles 1000000` too.
-        timeout_cycles: 1_000_000,
-    };
-    let options = CosimOptions {
-        timeout_cycles: spec.timeout_cycles,
-        ..CosimOptions::default()
-    };
     for processor in ProcessorKind::ALL {
+        // The defaults: glass_shortcut's and glass_corridor's deepest
+        // pixels take more than 100,000 cycles on the fast processor, whose
+        // 32 contexts share its pipeline, and less than its default.
+        let spec = JudgeSpec {
+            width: 16,
+            height: 12,
+            fuzz_seed: 1,
+            fuzz_count: 4,
+            unit_operands: 0,
+            timeout_cycles: processor.row().default_timeout_cycles(),
+        };
+        let options = CosimOptions::default();
         let mut dut = Design::new(processor, Method::Exact, Method::Exact)
             .open()
             .expect("the processor");

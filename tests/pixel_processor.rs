@@ -551,7 +551,7 @@ fn a_pixel_over_the_timeout_is_a_hung_rtl_error() {
     pp.run_pixel(7, 5, None).expect("runs");
 
     let options = CosimOptions {
-        timeout_cycles: 2,
+        timeout_cycles: Some(2),
         ..CosimOptions::default()
     };
     let window = Window::new(3, 2, 4, 4);

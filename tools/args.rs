@@ -9,7 +9,8 @@ use golden::window::Window;
 use rtcosim::campaign::shard::Shard;
 use rtcosim::campaign::sweep::ConfirmOptions;
 use rtcosim::check::cosim::CosimOptions;
-use rtcosim::design::{parse_number, Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::{parse_number, Fault};
 use rtcosim::scenes::{self, Overrides};
 use std::path::Path;
 
@@ -81,10 +82,27 @@ pub struct RtlCheckArgs {
     /// (see `cosim --fault`), so the check must fail (exit 1).
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
     pub fault: Option<Fault>,
-    /// Cycles a pixel may take before the RTL counts as hung.
-    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES,
-          value_parser = parse_cycles)]
-    pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
+}
+
+/// `--timeout-cycles`: when a pixel counts as hung.
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TimeoutArgs {
+    /// Cycles a pixel may take before the RTL counts as hung: the run
+    /// stops with an error naming the pixel and its last state. Default:
+    /// 100,000 for each of the processor's pixel contexts, which take turns
+    /// (compact 100,000; fast 3,200,000).
+    #[arg(long, value_name = "CYCLES", value_parser = parse_cycles)]
+    pub timeout_cycles: Option<u64>,
+}
+
+impl TimeoutArgs {
+    /// The cycles a pixel of `processor` may take.
+    pub fn cycles(&self, processor: ProcessorKind) -> u64 {
+        self.timeout_cycles
+            .unwrap_or_else(|| processor.row().default_timeout_cycles())
+    }
 }
 
 impl RtlCheckArgs {
@@ -94,7 +112,7 @@ impl RtlCheckArgs {
             seed: self.seed,
             cosim: CosimOptions {
                 fault: self.fault,
-                timeout_cycles: self.timeout_cycles,
+                timeout_cycles: self.timeout.timeout_cycles,
                 ..CosimOptions::default()
             },
         }

@@ -2,8 +2,8 @@
 //! them, `--procs`) against golden::micro.
 
 use crate::args::{
-    check_parent_dir, check_window, parse_cycles, parse_fault, parse_window, CoverageArgs,
-    SceneArgs, ThreadsArgs,
+    check_parent_dir, check_window, parse_fault, parse_window, CoverageArgs, SceneArgs,
+    ThreadsArgs, TimeoutArgs,
 };
 use crate::ui::{plural, progress_bar, write_trace};
 use anyhow::{bail, Context, Result};
@@ -14,7 +14,7 @@ use rtcosim::check::cosim::{self, CosimError, CosimOptions, CosimReport};
 use rtcosim::design::processor::ProcessorKind;
 use rtcosim::design::top::Stall;
 use rtcosim::design::Design;
-use rtcosim::design::{Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::{Fault, HangKind, PpError};
 use rtcosim::output::artefacts;
 use rtcosim::output::wave::Replay;
 
@@ -69,15 +69,8 @@ pub struct CosimArgs {
     #[arg(long, value_name = "CYCLES", default_value_t = 1,
           value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
     pub stall_burst: u32,
-    /// Cycles a pixel may take before the RTL counts as hung: the run stops
-    /// with an error naming the pixel and the last state.
-    #[arg(
-        long,
-        value_name = "CYCLES",
-        default_value_t = DEFAULT_TIMEOUT_CYCLES,
-        value_parser = parse_cycles
-    )]
-    pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
     /// Self-test of the harness, not a check of the RTL: inject a bit flip
     /// into the RTL's writes in state STATE, so the run must fail (exit 1).
     ///
@@ -192,9 +185,10 @@ pub fn run(args: CosimArgs) -> Result<bool> {
     let threads = pool.current_num_threads();
     let mut out = std::io::stdout().lock();
     print_header(&mut out, &args, &scene, &design, window, threads)?;
+    let timeout_cycles = args.timeout.cycles(design.processor);
     let options = CosimOptions {
         fault: args.fault,
-        timeout_cycles: args.timeout_cycles,
+        timeout_cycles: Some(timeout_cycles),
         // Always: the saturation warning reads golden's frame.
         keep_frames: true,
         stall: args.stall(),
@@ -215,7 +209,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
                 ..
             }) => format!(
                 "; --timeout-cycles is {}: raise it if the pixel is only slow",
-                args.timeout_cycles
+                timeout_cycles
             ),
             _ => String::new(),
         };
@@ -255,7 +249,7 @@ pub fn run(args: CosimArgs) -> Result<bool> {
                 trace_window,
                 &alone,
                 args.fault,
-                args.timeout_cycles,
+                timeout_cycles,
                 path,
                 progress,
             )

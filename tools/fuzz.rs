@@ -1,7 +1,7 @@
 //! `rtcosim fuzz`: random scenes, each refused at load or co-simulated with
 //! 0 divergences and finite colours.
 
-use crate::args::{parse_cycles, parse_fault, CoverageArgs, ShardArgs, ThreadsArgs};
+use crate::args::{parse_fault, CoverageArgs, ShardArgs, ThreadsArgs, TimeoutArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
@@ -10,7 +10,7 @@ use rtcosim::campaign::fuzz::{self, FuzzOptions};
 use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
 use rtcosim::campaign::shard::Shard;
 use rtcosim::design::processor::ProcessorKind;
-use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::Fault;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,9 +46,8 @@ pub struct FuzzArgs {
     /// into the RTL of every scene, so the campaign must fail.
     #[arg(long, value_name = "STATE:XOR", value_parser = parse_fault)]
     pub fault: Option<Fault>,
-    /// Cycles a pixel may take before the RTL counts as hung.
-    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
-    pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
     #[command(flatten)]
     pub coverage: CoverageArgs,
 }
@@ -76,7 +75,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         seed: args.seed,
         first: args.first,
         count: args.count,
-        timeout_cycles: args.timeout_cycles,
+        timeout_cycles: args.timeout.cycles(args.processor),
         fault: args.fault.map(|f| f.to_string()),
         failures: args.failures.display().to_string(),
         verilator: rtcosim::VERILATOR_VERSION.into(),
@@ -114,7 +113,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         first: args.first,
         count: args.count,
         failures_dir: Some(args.failures.clone()),
-        timeout_cycles: args.timeout_cycles,
+        timeout_cycles: args.timeout.cycles(args.processor),
         fault: args.fault,
         processor: args.processor,
     };

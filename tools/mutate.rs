@@ -1,7 +1,7 @@
 //! `rtcosim mutate`: mutants of a pixel processor judged against golden
 //! (harness::mutation, docs/mutation.md).
 
-use crate::args::{parse_cycles, parse_size, ShardArgs, Size, ThreadsArgs};
+use crate::args::{parse_size, ShardArgs, Size, ThreadsArgs, TimeoutArgs};
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use rtcosim::campaign::mutation::{self, Campaign, Judge, JudgeSpec, List, Outcome, Summary};
@@ -9,7 +9,6 @@ use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
 use rtcosim::campaign::shard::journal::Journal;
 use rtcosim::campaign::shard::Shard;
 use rtcosim::design::processor::ProcessorKind;
-use rtcosim::design::DEFAULT_TIMEOUT_CYCLES;
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -39,9 +38,8 @@ pub struct MutateArgs {
     /// after its edge cases, for a mutant a float unit may carry.
     #[arg(long, value_name = "N", default_value_t = 10_000)]
     pub unit_operands: u64,
-    /// Cycles a pixel may take before the mutant counts as hung (killed).
-    #[arg(long, value_name = "CYCLES", default_value_t = DEFAULT_TIMEOUT_CYCLES, value_parser = parse_cycles)]
-    pub timeout_cycles: u64,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
     /// Ask Yosys (rtl/mutate/mutants.sh equiv) whether each survivor's
     /// module is equivalent to the original (needs yosys on PATH).
     #[arg(long)]
@@ -127,7 +125,7 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         fuzz_seed: args.fuzz_seed,
         fuzz_count: args.fuzz,
         unit_operands: args.unit_operands,
-        timeout_cycles: args.timeout_cycles,
+        timeout_cycles: args.timeout.cycles(args.processor),
     };
     let judge = Judge::new(args.processor, spec)?;
     let campaign = Campaign {

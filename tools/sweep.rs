@@ -101,7 +101,7 @@ pub fn run(args: SweepArgs) -> Result<bool> {
         sample: args.check.sample,
         seed: args.check.seed,
         fault: args.check.fault.map(|f| f.to_string()),
-        timeout_cycles: args.check.timeout_cycles,
+        timeout_cycles: args.check.timeout.timeout_cycles,
         processors: args.processor.map(|p| vec![p]).unwrap_or_default(),
         axis: args.axis,
         verilator: rtcosim::VERILATOR_VERSION.into(),

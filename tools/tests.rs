@@ -7,7 +7,8 @@ use crate::render::Model;
 use clap::CommandFactory;
 use golden::scene::Scene;
 use golden::window::Window;
-use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
+use rtcosim::design::processor::ProcessorKind;
+use rtcosim::design::Fault;
 use std::path::PathBuf;
 
 #[test]
@@ -120,7 +121,10 @@ fn cosim_defaults_to_the_whole_reference_scene_with_its_methods() {
     assert_eq!(args.scene.scene, "reference");
     assert_eq!((args.scene.size, args.window), (None, None));
     assert_eq!((args.scene.recip, args.scene.sqrt), (None, None));
-    assert_eq!(args.timeout_cycles, DEFAULT_TIMEOUT_CYCLES);
+    // As --help says: 100,000 cycles for each of the processor's contexts.
+    assert_eq!(args.timeout.timeout_cycles, None);
+    assert_eq!(args.timeout.cycles(ProcessorKind::Compact), 100_000);
+    assert_eq!(args.timeout.cycles(ProcessorKind::Fast), 3_200_000);
     assert_eq!((args.threads.threads, args.fault), (None, None));
 }
 
@@ -153,7 +157,8 @@ fn a_full_cosim_command_line_parses() {
     assert_eq!(args.window.map(|w| w.to_string()), Some("1,2,30,20".into()));
     assert_eq!(args.scene.recip, Some(MethodArg::Fast));
     assert_eq!(args.scene.sqrt, Some(MethodArg::Exact));
-    assert_eq!(args.timeout_cycles, 5000);
+    assert_eq!(args.timeout.timeout_cycles, Some(5000));
+    assert_eq!(args.timeout.cycles(ProcessorKind::Fast), 5000);
     assert_eq!(
         args.fault,
         Some(Fault {

@@ -21,7 +21,7 @@
 use crate::check::compare::{compare_pixel, CompareReport, Labels, PixelVerdict, Tolerance};
 use crate::design::processor::{CycleRule, Driver};
 use crate::design::top::{FrameStats, Stall};
-use crate::design::{Design, Dut, Fault, PpError, DEFAULT_TIMEOUT_CYCLES};
+use crate::design::{Design, Dut, Fault, PpError};
 use golden::fp::Method;
 use golden::frame::Frame;
 use golden::micro::barrel::{self, PixelWork, TopStart};
@@ -40,8 +40,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub struct CosimOptions {
     /// A fault injected into every worker's RTL (tests of the checker).
     pub fault: Option<Fault>,
-    /// Cycles a pixel may take before the RTL counts as hung.
-    pub timeout_cycles: u64,
+    /// Cycles a pixel may take before the RTL counts as hung; `None`: the
+    /// design's [`Design::default_timeout_cycles`].
+    pub timeout_cycles: Option<u64>,
     /// Keep both sides' colours of every pixel ([`CosimReport::frames`]).
     pub keep_frames: bool,
     /// The result stream's backpressure, seeded per tile (a design
@@ -49,11 +50,20 @@ pub struct CosimOptions {
     pub stall: Stall,
 }
 
+impl CosimOptions {
+    /// The cycles a pixel of `design` may take: `timeout_cycles`, or the
+    /// design's default.
+    pub fn timeout_for(&self, design: &Design) -> u64 {
+        self.timeout_cycles
+            .unwrap_or_else(|| design.default_timeout_cycles())
+    }
+}
+
 impl Default for CosimOptions {
     fn default() -> CosimOptions {
         CosimOptions {
             fault: None,
-            timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+            timeout_cycles: None,
             keep_frames: false,
             stall: Stall::NONE,
         }
@@ -331,7 +341,7 @@ pub fn tiles(window: Window) -> Vec<Window> {
 /// Builds `design`'s model with `options`' timeout and fault.
 pub fn open(design: &Design, options: &CosimOptions) -> Result<Dut, PpError> {
     let mut dut = design.open()?;
-    dut.set_timeout_cycles(options.timeout_cycles);
+    dut.set_timeout_cycles(options.timeout_for(design));
     dut.set_fault(options.fault);
     Ok(dut)
 }
@@ -402,7 +412,7 @@ pub fn run_on(
     each: &mut dyn FnMut(&PixelVerdict),
 ) -> Result<CosimReport, CosimError> {
     window.check_inside(scene.camera.width, scene.camera.height)?;
-    dut.set_timeout_cycles(options.timeout_cycles);
+    dut.set_timeout_cycles(options.timeout_for(&dut.design()));
     dut.set_fault(options.fault);
     load_once(dut, scene)?;
     let golden = Processor::new(scene);

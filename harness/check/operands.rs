@@ -117,11 +117,11 @@ const EXP_EDGES: &[u32] = &[
 ];
 
 /// Edge-case operands for `kind`: every ordered pair of [`edge_values`] for
-/// binary units (and the pairs of [`FAST_ADD_MUTANT_KILLERS`],
-/// [`FAST_MUL_MUTANT_KILLERS`]); the edge values (and, for `fp_itof`, the
-/// edge integers with both signs; for `fp_exp`, [`EXP_EDGES`] with both
-/// signs and their neighbours; the mutant killers) for unary ones. `b` is
-/// empty for unary units. A pipelined unit gets its arithmetic's.
+/// binary units (and the pairs of [`ADD_HARD_OPERANDS`],
+/// [`MUL_HARD_OPERANDS`]); the edge values (and, for `fp_itof`, the edge
+/// integers with both signs; for `fp_exp`, [`EXP_EDGES`] with both signs
+/// and their neighbours; the hard operands) for unary ones. `b` is empty
+/// for unary units. A pipelined unit gets its arithmetic's.
 pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     let values = edge_values();
     if kind.is_binary() {
@@ -130,13 +130,13 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
             .flat_map(|&x| values.iter().map(move |_| x))
             .collect();
         let mut b: Vec<u32> = values.iter().flat_map(|_| values.iter().copied()).collect();
-        let killers = match kind.arithmetic() {
-            UnitKind::Add => FAST_ADD_MUTANT_KILLERS,
-            UnitKind::Mul => FAST_MUL_MUTANT_KILLERS,
+        let hard = match kind.arithmetic() {
+            UnitKind::Add => ADD_HARD_OPERANDS,
+            UnitKind::Mul => MUL_HARD_OPERANDS,
             _ => &[],
         };
-        a.extend(killers.iter().map(|&(x, _, _)| x));
-        b.extend(killers.iter().map(|&(_, y, _)| y));
+        a.extend(hard.iter().map(|&(x, _)| x));
+        b.extend(hard.iter().map(|&(_, y)| y));
         return (a, b);
     }
     let mut a = values;
@@ -158,107 +158,110 @@ pub fn edge_cases(kind: UnitKind) -> (Vec<u32>, Vec<u32>) {
     if let UnitKind::Recip(_) | UnitKind::Sqrt(_) = kind {
         a.extend(correction_edges(kind));
     }
-    // The mutant killers: both processors' lists, for either's unit.
-    let killers: [&[(u32, u16)]; 2] = match kind {
-        UnitKind::Recip(_) => [RECIP_MUTANT_KILLERS, FAST_RECIP_MUTANT_KILLERS],
-        UnitKind::Sqrt(_) => [SQRT_MUTANT_KILLERS, FAST_SQRT_MUTANT_KILLERS],
-        UnitKind::Exp => [EXP_MUTANT_KILLERS, FAST_EXP_MUTANT_KILLERS],
-        _ => [&[], &[]],
-    };
-    a.extend(killers.into_iter().flatten().map(|&(v, _)| v));
+    a.extend_from_slice(match kind {
+        UnitKind::Recip(_) => RECIP_HARD_OPERANDS,
+        UnitKind::Sqrt(_) => SQRT_HARD_OPERANDS,
+        UnitKind::Exp => EXP_HARD_OPERANDS,
+        _ => &[],
+    });
     (a, Vec::new())
 }
 
-/// `fp_recip` operands that kill mutants the other edge cases and the
+/// `fp_recip` operands that caught a fault the other edge cases and the
 /// random operands miss, each the smallest bit pattern that does, found by
-/// exhaustive simulation (`examples/mutant_exhaustive.rs`, docs/mutation.md),
-/// with the mutant. (In every `*_MUTANT_KILLERS` the mutant IDs are of the
-/// lists of commit bf3ae96; today's lists, drawn again for refraction,
-/// number their mutants otherwise. The operands stay edge cases.) Two are results below the normal range (a of exponent
-/// field 253 or 254), where the rounding drops one or two more bits.
-pub const RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x7F00_1001, 89),   // 3M's bit 13 inverted (fp_recip.v:145): 1 operand of 25.2M
-    (0x3F8E_FA43, 393),  // bit 2 of M inverted in rem_q - M (:157): 7
-    (0x3F81_64B0, 420),  // rem_q[6] flipped when rem_q[3] is 0 (:125): 14
-    (0x3F95_BF00, 474),  // bit 10 of the 2-step arm's rem_fixed (:152): 8
-    (0x3F80_A4DA, 768),  // bit 12 of M*q forced in 2^50 - M*q (:134): 323
-    (0x7E9B_C000, 1087), // rem_fixed[17] cleared in the sticky (:171): 2
+/// exhaustive simulation of a mutant (`examples/mutant_exhaustive.rs`,
+/// docs/mutation.md), with the fault: an edge case of the reciprocal's
+/// arithmetic from then on. Two are results below the normal range (a of
+/// exponent field 253 or 254), where the rounding drops one or two more
+/// bits. [`MUTANT_KILLERS`] names the mutants of today's lists that hard
+/// operands kill.
+pub const RECIP_HARD_OPERANDS: &[u32] = &[
+    0x7F00_1001, // 3M's bit 13 inverted (fp_recip.v:145): 1 operand of 25.2M
+    0x3F8E_FA43, // bit 2 of M inverted in rem_q - M (:157): 7
+    0x3F81_64B0, // rem_q[6] flipped when rem_q[3] is 0 (:125): 14
+    0x3F95_BF00, // bit 10 of the 2-step arm's rem_fixed (:152): 8
+    0x3F80_A4DA, // bit 12 of M*q forced in 2^50 - M*q (:134): 323
+    0x7E9B_C000, // rem_fixed[17] cleared in the sticky (:171): 2
+    // fast_fp_recip:
+    0x3F80_A7F4, // fast_fp_recip.v:128
+    0x3F86_908F, // :207
+    0x3F80_1B24, // a fast_delay of it (fast_delay.v:24)
+    0x3F81_7000, // a fast_delay of it (fast_delay.v:16)
 ];
 
-/// `fp_sqrt` operands that kill mutants the other edge cases miss; see
-/// [`RECIP_MUTANT_KILLERS`].
-pub const SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x3F84_4570, 686), // rem_full[13] flipped by bit 8 (fp_sqrt.v:152): 43 operands of 16.8M
-    (0x406E_9372, 872), // rem_full[8] inverted into rem_q (:232): 1
+/// `fp_sqrt`'s and `fast_fp_sqrt`'s; see [`RECIP_HARD_OPERANDS`].
+pub const SQRT_HARD_OPERANDS: &[u32] = &[
+    0x3F84_4570, // rem_full[13] flipped by bit 8 (fp_sqrt.v:152): 43 operands of 16.8M
+    0x406E_9372, // rem_full[8] inverted into rem_q (:232): 1
+    0x3F83_3A4E, // fast_fp_sqrt.v:231
+    0x3FCB_41E9, // :235
 ];
 
-/// `fp_exp` operands that kill mutants the other edge cases and the random
-/// operands miss, found by `examples/mutant_exhaustive.rs` (its exponent
-/// sweep, then one operand for each value of the unit's fixed-point input
-/// below |a| = 128): each the smallest that differs in the first batch that
-/// had one; see [`RECIP_MUTANT_KILLERS`].
-pub const EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0xB4AE_553E, 58),  // u_q[6] forced 1 in p = 1 + g*u (fp_exp.v:113)
-    (0x3951_2AB0, 287), // u_next[2] inverted (:124)
-    (0x3980_0400, 425), // in_man[4] inverted into x_right (:85)
-    (0x399E_81E8, 655), // u_next[1] flipped by bit 19 (:124)
-    (0x3380_8000, 859), // s[35] inverted: the sticky or sig's low bit (:128)
+/// `fp_exp`'s and `fast_fp_exp`'s, found by `examples/mutant_exhaustive.rs`
+/// (its exponent sweep, then one operand for each value of the unit's
+/// fixed-point input below |a| = 128): each the smallest that differs in
+/// the first batch that had one; see [`RECIP_HARD_OPERANDS`].
+pub const EXP_HARD_OPERANDS: &[u32] = &[
+    0xB4AE_553E, // u_q[6] forced 1 in p = 1 + g*u (fp_exp.v:113)
+    0x3951_2AB0, // u_next[2] inverted (:124)
+    0x3980_0400, // in_man[4] inverted into x_right (:85)
+    0x399E_81E8, // u_next[1] flipped by bit 19 (:124)
+    0x3380_8000, // s[35] inverted: the sticky or sig's low bit (:128)
+    0x37DD_7F80, // fast_fp_exp.v:276
+    0x3F2C_8077, // :158
+    0x3A8D_4A82, // :236
+    0x3BD5_6D2F, // :231
+    0xBF27_1688, // :184
+    0x3CBF_9A43, // :150
+    0x3AA9_EDD0, // :244
+    0x3ACA_95EC, // :188
+    0x4100_4000, // :154
+    0x3B5A_8F9C, // :157
+    0xB945_EC10, // :124
+    0x3E11_6DA6, // :137
+    0x3F55_4A6A, // :167
 ];
 
-/// The fast processor's (`rtl/mutate/fast_pp.mutants`): `fast_fp_recip`
-/// operands that kill mutants its other edge cases and random operands
-/// miss, each the smallest that differs in the first batch that had one,
-/// found by `examples/mutant_exhaustive.rs --processor fast` (7, 89 and 531
-/// are mutants of its fast_delay instances, run with `--unit
-/// fast_fp_recip`). Every unit with recip's arithmetic gets them.
-pub const FAST_RECIP_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x3F80_A7F4, 311), // fast_fp_recip.v:128
-    (0x3F86_908F, 845), // :207
-    (0x3F80_1B24, 7),   // a fast_delay of it (fast_delay.v:24)
-    (0x3F81_7000, 89),  // a fast_delay of it (fast_delay.v:16)
-    (0x3F80_A7F4, 531), // a fast_delay of it (fast_delay.v:16): 311's operand
+/// Operand pairs `(a, b)` of the adders and of the multipliers that
+/// caught a fault the other edge cases and random operands miss, each the
+/// counterexample of `mutants.sh miter` (for a pipelined unit, the pair
+/// that entered a latency before the outputs differed); see
+/// [`RECIP_HARD_OPERANDS`].
+pub const ADD_HARD_OPERANDS: &[(u32, u32)] = &[
+    (0xA980_0000, 0x1D20_0000), // fast_fp_add.v:117
 ];
 
-/// `fast_fp_sqrt`'s; see [`FAST_RECIP_MUTANT_KILLERS`].
-pub const FAST_SQRT_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x3F83_3A4E, 378), // fast_fp_sqrt.v:231
-    (0x3FCB_41E9, 631), // :235
+/// The multipliers'; see [`ADD_HARD_OPERANDS`] (the fp_round ones show in
+/// the multiplier's subnormal results).
+pub const MUL_HARD_OPERANDS: &[(u32, u32)] = &[
+    (0x0000_0003, 0x400C_0000), // fast_fp_round.v:61
+    (0x3700_0000, 0x0021_0008), // fast_fp_round.v:61
+    (0x0000_0241, 0x3C00_0000), // fast_fp_round.v:57
+    (0x3BC0_0DAB, 0x00C0_0000), // fp_round.v:62: bit 21 of the subnormal shift
 ];
 
-/// `fast_fp_exp`'s; see [`FAST_RECIP_MUTANT_KILLERS`].
-pub const FAST_EXP_MUTANT_KILLERS: &[(u32, u16)] = &[
-    (0x37DD_7F80, 74),   // fast_fp_exp.v:276
-    (0x3F2C_8077, 129),  // :158
-    (0x3A8D_4A82, 146),  // :236
-    (0x3BD5_6D2F, 150),  // :231
-    (0xBF27_1688, 223),  // :184
-    (0x3CBF_9A43, 408),  // :150
-    (0x3AA9_EDD0, 474),  // :244
-    (0x3ACA_95EC, 663),  // :188
-    (0x3ACA_95EC, 967),  // :188: 663's operand
-    (0x4100_4000, 701),  // :154
-    (0x3B5A_8F9C, 771),  // :157
-    (0xB945_EC10, 818),  // :124
-    (0x3E11_6DA6, 832),  // :137
-    (0x3F55_4A6A, 1060), // :167
-];
+/// A hard operand (pair) and a mutant of today's lists it kills: the unit
+/// as the judge gets it, carrying the mutant, gives another result than
+/// golden (`FpUnit::new_mutant`; a `Fast*` kind names a mutant of the fast
+/// processor's list, any other the compact one's). Checked by
+/// `tests/mutation.rs`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Killer {
+    pub unit: UnitKind,
+    pub a: u32,
+    /// 0 for a unary unit.
+    pub b: u32,
+    pub mutant: u16,
+}
 
-/// The fast processor's `fast_fp_add` operand pairs `(a, b, mutant)` that
-/// kill mutants its other edge cases and random operands miss, each the
-/// counterexample of `mutants.sh miter` (the pair that entered the
-/// pipeline a latency before the outputs differed).
-pub const FAST_ADD_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
-    (0xA980_0000, 0x1D20_0000, 271), // fast_fp_add.v:117
-];
-
-/// `fast_fp_mul`'s; see [`FAST_ADD_MUTANT_KILLERS`] (375 and 585 are of
-/// fast_fp_round, which every unit has; the miter showed them in the
-/// multiplier's subnormal results).
-pub const FAST_MUL_MUTANT_KILLERS: &[(u32, u32, u16)] = &[
-    (0x0000_0003, 0x400C_0000, 375), // fast_fp_round.v:61
-    (0x3700_0000, 0x0021_0008, 585), // fast_fp_round.v:61
-    (0x0000_0241, 0x3C00_0000, 635), // fast_fp_round.v:57
-];
+/// The hard operands that kill a mutant of today's lists
+/// (rtl/mutate/*.mutants), with the mutant.
+pub const MUTANT_KILLERS: &[Killer] = &[Killer {
+    unit: UnitKind::Mul,
+    a: 0x3BC0_0DAB,
+    b: 0x00C0_0000,
+    mutant: 545,
+}];
 
 /// Operands of each step count of the exact methods' correction (for either
 /// method: the estimate is the same): for `fp_recip`, mantissas whose Newton
@@ -436,17 +439,17 @@ mod tests {
     }
 
     #[test]
-    fn binary_edge_cases_are_all_ordered_pairs_then_the_killers() {
+    fn binary_edge_cases_are_all_ordered_pairs_then_the_hard_ones() {
         let n = edge_values().len();
-        for (kind, killers) in [
-            (UnitKind::Add, FAST_ADD_MUTANT_KILLERS),
-            (UnitKind::FastMul, FAST_MUL_MUTANT_KILLERS),
+        for (kind, hard) in [
+            (UnitKind::Add, ADD_HARD_OPERANDS),
+            (UnitKind::FastMul, MUL_HARD_OPERANDS),
         ] {
             let (a, b) = edge_cases(kind);
-            let len = n * n + killers.len();
+            let len = n * n + hard.len();
             assert_eq!((a.len(), b.len()), (len, len), "{kind}");
             assert_eq!((a[1], b[1]), (edge_values()[0], edge_values()[1]));
-            for (i, &(x, y, _)) in killers.iter().enumerate() {
+            for (i, &(x, y)) in hard.iter().enumerate() {
                 assert_eq!((a[n * n + i], b[n * n + i]), (x, y), "{kind}");
             }
         }

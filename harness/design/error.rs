@@ -179,6 +179,9 @@ pub fn scene_port_writes(scene: &Scene) -> Vec<(bool, u8, [u32; 3])> {
     writes
 }
 
-/// Cycles a pixel may take before it counts as hung. The slowest pixel of
-/// any builtin scene takes well under 10,000.
+/// Cycles a pixel may take before it counts as hung, on a processor that
+/// runs one pixel at a time; a processor whose contexts take turns gives
+/// each this many ([`crate::design::Processor::default_timeout_cycles`]).
+/// The slowest pixel of any builtin scene takes well under 10,000 cycles
+/// on the compact processor.
 pub const DEFAULT_TIMEOUT_CYCLES: u64 = 100_000;

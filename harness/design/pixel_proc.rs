@@ -29,9 +29,7 @@
 //! ([`PpError::Model`]).
 
 use crate::design::bridge::ffi;
-use crate::design::error::{
-    check_scene, scene_port_writes, Fault, HangKind, PpError, DEFAULT_TIMEOUT_CYCLES,
-};
+use crate::design::error::{check_scene, scene_port_writes, Fault, HangKind, PpError};
 use crate::design::processor::Driver;
 use crate::design::spec::Design;
 use cxx::UniquePtr;
@@ -85,7 +83,7 @@ impl PixelProcessor {
             inner,
             scene: None,
             fault: None,
-            timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+            timeout_cycles: design.default_timeout_cycles(),
             poisoned: false,
             scratch: Vec::new(),
             coverage,

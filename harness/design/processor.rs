@@ -12,6 +12,7 @@
 //!   streams; N of them through `rtl/top.v` (`FAST = 1`) follow the top's
 //!   rule (`golden::micro::barrel::run_top`).
 
+use crate::design::error::DEFAULT_TIMEOUT_CYCLES;
 use crate::design::fp_unit::UnitKind;
 use crate::design::models::Rtl;
 use std::fmt;
@@ -320,6 +321,16 @@ pub const PROCESSORS: [Processor; 2] = [
         colour: (40, 170, 170),
     },
 ];
+
+impl Processor {
+    /// Cycles a pixel may take before the RTL counts as hung, unless told
+    /// otherwise: [`DEFAULT_TIMEOUT_CYCLES`] for each of the processor's
+    /// contexts, since its contexts take turns (a pixel of the fast
+    /// processor gets one micro-op in 32 cycles when all are busy).
+    pub fn default_timeout_cycles(&self) -> u64 {
+        DEFAULT_TIMEOUT_CYCLES * u64::from(self.contexts)
+    }
+}
 
 impl ProcessorKind {
     /// Every processor, in row order.

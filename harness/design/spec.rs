@@ -91,6 +91,12 @@ impl Design {
         }
     }
 
+    /// Cycles a pixel may take before the RTL counts as hung, unless told
+    /// otherwise: its processor's [`Processor::default_timeout_cycles`].
+    pub fn default_timeout_cycles(&self) -> u64 {
+        self.row().default_timeout_cycles()
+    }
+
     /// Pixel contexts in all (slots of its streams).
     pub fn contexts(&self) -> u32 {
         self.procs.unwrap_or(1) * self.row().contexts

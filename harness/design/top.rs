@@ -38,7 +38,6 @@
 use crate::design::bridge::ffi;
 use crate::design::error::{
     check_scene, scene_port_writes, Fault, HangKind, PpError, ProcessorId, SlotLayout,
-    DEFAULT_TIMEOUT_CYCLES,
 };
 use crate::design::processor::Driver;
 use crate::design::spec::Design;
@@ -177,7 +176,7 @@ impl Top {
             given: vec![0; procs as usize],
             coverage,
         };
-        top.set_timeout_cycles(DEFAULT_TIMEOUT_CYCLES);
+        top.set_timeout_cycles(design.default_timeout_cycles());
         Ok(top)
     }
 

@@ -276,7 +276,7 @@ pub fn run_indices(
 ) -> Result<FuzzReport, std::io::Error> {
     let cosim_options = CosimOptions {
         fault: options.fault,
-        timeout_cycles: options.timeout_cycles,
+        timeout_cycles: Some(options.timeout_cycles),
         keep_frames: false,
         stall: Stall::NONE,
     };

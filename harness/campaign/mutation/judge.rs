@@ -429,7 +429,7 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
         }
     }
     let options = CosimOptions {
-        timeout_cycles: judge.spec.timeout_cycles,
+        timeout_cycles: Some(judge.spec.timeout_cycles),
         ..CosimOptions::default()
     };
     let mut dut = mutant_design(judge.processor).open()?;
@@ -473,7 +473,7 @@ pub fn judge(id: u16, in_float_unit: bool, judge: &Judge) -> Result<Outcome, PpE
                 }
                 cuts.clone().find_map(|cut| {
                     let rtl = dut.one_pixel().expect("a one-pixel design");
-                    let run = cut_short(rtl, scene, *window, cut, &options).and_then(|()| {
+                    let run = cut_short(rtl, scene, *window, cut).and_then(|()| {
                         cosim::run_on(&mut dut, scene, *window, &options, &mut |_| {})
                     });
                     failure(run, &mut pixels)
@@ -561,19 +561,19 @@ pub const RESET_CUTS: u64 = 300;
 
 /// Loads `scene` into `rtl`, starts `window`'s first pixel and lets the
 /// watchdog stop it after `cut` cycles (a pixel done sooner is fine), then
-/// restores the judge's timeout; the next run's load resets it.
+/// restores the timeout it had; the next run's load resets it.
 fn cut_short(
     rtl: &mut PixelProcessor,
     scene: &Scene,
     window: Window,
     cut: u64,
-    options: &CosimOptions,
 ) -> Result<(), cosim::CosimError> {
     rtl.load_scene(scene)?;
+    let timeout = rtl.timeout_cycles();
     rtl.set_timeout_cycles(cut);
     let (x, y) = window.iter().next().unwrap_or((0, 0));
     let run = rtl.run_pixel(x, y, None);
-    rtl.set_timeout_cycles(options.timeout_cycles);
+    rtl.set_timeout_cycles(timeout);
     match run {
         Ok(_) | Err(PpError::Hung { .. }) => Ok(()),
         Err(e) => Err(e.into()),

@@ -54,7 +54,8 @@ pub struct RunConfig {
     pub seed: u64,
     /// `STATE:XOR`, as `--fault` takes it.
     pub fault: Option<String>,
-    pub timeout_cycles: u64,
+    /// `None`: each processor's default.
+    pub timeout_cycles: Option<u64>,
     /// The processors swept (each row is confirmed on its own).
     pub processors: Vec<ProcessorKind>,
     /// The axis the front is on (shards of an older rtcosim: device
