@@ -182,6 +182,7 @@ pub const RECIP_HARD_OPERANDS: &[u32] = &[
     0x3F95_BF00, // bit 10 of the 2-step arm's rem_fixed (:152): 8
     0x3F80_A4DA, // bit 12 of M*q forced in 2^50 - M*q (:134): 323
     0x7E9B_C000, // rem_fixed[17] cleared in the sticky (:171): 2
+    0x3F81_1FFA, // 3M's bit 19 flipped where bit 1 is 1 (:145): 4 in the first batch
     // fast_fp_recip:
     0x3F80_A7F4, // fast_fp_recip.v:128
     0x3F86_908F, // :207
@@ -256,12 +257,20 @@ pub struct Killer {
 
 /// The hard operands that kill a mutant of today's lists
 /// (rtl/mutate/*.mutants), with the mutant.
-pub const MUTANT_KILLERS: &[Killer] = &[Killer {
-    unit: UnitKind::Mul,
-    a: 0x3BC0_0DAB,
-    b: 0x00C0_0000,
-    mutant: 545,
-}];
+pub const MUTANT_KILLERS: &[Killer] = &[
+    Killer {
+        unit: UnitKind::Mul,
+        a: 0x3BC0_0DAB,
+        b: 0x00C0_0000,
+        mutant: 545,
+    },
+    Killer {
+        unit: UnitKind::Recip(golden::fp::Method::Exact),
+        a: 0x3F81_1FFA,
+        b: 0,
+        mutant: 194,
+    },
+];
 
 /// Operands of each step count of the exact methods' correction (for either
 /// method: the estimate is the same): for `fp_recip`, mantissas whose Newton
