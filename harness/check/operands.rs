@@ -204,6 +204,7 @@ pub const SQRT_HARD_OPERANDS: &[u32] = &[
 /// the first batch that had one; see [`RECIP_HARD_OPERANDS`].
 pub const EXP_HARD_OPERANDS: &[u32] = &[
     0xB4AE_553E, // u_q[6] forced 1 in p = 1 + g*u (fp_exp.v:113)
+    0x3E52_B78F, // bit 1 of table_rom[76] forced 1 (:127): 292 in the first batch
     0x3951_2AB0, // u_next[2] inverted (:124)
     0x3980_0400, // in_man[4] inverted into x_right (:85)
     0x399E_81E8, // u_next[1] flipped by bit 19 (:124)
@@ -269,6 +270,12 @@ pub const MUTANT_KILLERS: &[Killer] = &[
         a: 0x3F81_1FFA,
         b: 0,
         mutant: 194,
+    },
+    Killer {
+        unit: UnitKind::Exp,
+        a: 0x3E52_B78F,
+        b: 0,
+        mutant: 8,
     },
 ];
 

@@ -132,6 +132,7 @@ pub const DIRECTED: &[Directed] = &[
     directed!("glass_corridor", None, None),
     directed!("glass_escape", None, None),
     directed!("glass_owed", None, None),
+    directed!("pitch_subnormal", None, None),
 ];
 
 /// The judge's directed-scene checks: every file of [`DIRECTED`] as
