@@ -252,6 +252,85 @@ fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
     }
 }
 
+/// The transitions golden predicts for every pixel of `scene`
+/// (golden::micro::cover, the guided fuzzer's feedback), by state name.
+fn predicted(scene: &golden::scene::Scene) -> std::collections::BTreeSet<Transition> {
+    golden::micro::Processor::new(scene)
+        .coverage(golden::window::Window::full(scene))
+        .points()
+        .filter_map(|p| match p {
+            golden::micro::cover::Point::Transition(..) => {
+                let text = p.to_string();
+                let (a, b) = text.split_once(" -> ").expect("FROM -> TO");
+                Some((a.to_string(), b.to_string()))
+            }
+            golden::micro::cover::Point::Value(..) => None,
+        })
+        .collect()
+}
+
+/// Golden's predicted paths (the guided fuzzer's feedback) take only
+/// transitions Yosys finds possible, none argued unreachable, and every one
+/// a cover scene was written to take (which the coverage build checks on
+/// the RTL): on every builtin scene at 16x12 and the cover scenes.
+#[test]
+fn golden_predicts_only_possible_transitions_and_those_the_cover_scenes_take() {
+    let (_, pairs) = table();
+    let pairs: std::collections::BTreeSet<Transition> = pairs.into_iter().collect();
+    let argued: std::collections::BTreeSet<Transition> = rtcosim::output::coverage::unreachable()
+        .expect("the lists read")
+        .into_iter()
+        .filter(|a| a.controller == "pp_ctrl")
+        .map(|a| (a.from, a.to))
+        .collect();
+    let mut all = std::collections::BTreeSet::new();
+    let builtins = golden::scene::Scene::builtin_names().iter().map(|name| {
+        let scene = rtcosim::scenes::load_with(
+            name,
+            rtcosim::scenes::Overrides {
+                size: Some((16, 12)),
+                ..Default::default()
+            },
+        )
+        .expect("a builtin at 16x12");
+        (format!("builtin {name}"), scene, Vec::new())
+    });
+    for (what, scene, takes) in builtins.chain(cover_scenes()) {
+        let got = predicted(&scene);
+        for t in &got {
+            assert!(
+                pairs.contains(t),
+                "{what}: {} -> {} is not in the table",
+                t.0,
+                t.1
+            );
+            assert!(
+                !argued.contains(t),
+                "{what}: {} -> {} is argued unreachable",
+                t.0,
+                t.1
+            );
+        }
+        for t in &takes {
+            assert!(
+                got.contains(t),
+                "{what}: golden does not take {} -> {}",
+                t.0,
+                t.1
+            );
+        }
+        all.extend(got);
+    }
+    // Every pixel starts and ends, and the multi-cycle states wait.
+    for (a, b) in [
+        ("IDLE", "PRI_ITOF"),
+        ("PIX_DONE", "IDLE"),
+        ("NORM_ROOTS", "NORM_ROOTS"),
+    ] {
+        assert!(all.contains(&(a.to_string(), b.to_string())), "{a} -> {b}");
+    }
+}
+
 #[test]
 fn without_the_coverage_build_coverage_is_refused_with_the_command_that_builds_it() {
     if rtcosim::output::coverage::BUILT {

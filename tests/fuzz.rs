@@ -121,3 +121,114 @@ fn the_long_campaign_keeps_the_promise() {
     assert_kept(&report, 10_000);
     assert!(report.in_limits_accepted * 10 >= report.in_limits * 9);
 }
+
+mod guided {
+    use super::scratch;
+    use golden::micro::cover::Coverage;
+    use golden::micro::isa::state;
+    use golden::scene::Scene;
+    use rtcosim::campaign::fuzz::guided::{self, GuidedError, GuidedOptions, Strategy};
+    use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::design::{Fault, DEFAULT_TIMEOUT_CYCLES};
+    use std::path::Path;
+
+    fn options(corpus: &Path, count: u64, fault: Option<Fault>) -> GuidedOptions {
+        GuidedOptions {
+            seed: 5,
+            count,
+            corpus: corpus.to_path_buf(),
+            strategy: Strategy::Guided,
+            max_pixels: 256,
+            failures_dir: corpus.join("failures"),
+            timeout_cycles: DEFAULT_TIMEOUT_CYCLES,
+            fault,
+            processor: ProcessorKind::Compact,
+        }
+    }
+
+    fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(f)
+    }
+
+    fn coverage_of(path: &Path) -> Coverage {
+        let scene = Scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        golden::micro::Processor::new(&scene).coverage(golden::window::Window::full(&scene))
+    }
+
+    /// Every scene the campaign keeps loads, reaches a point that no seed
+    /// and no scene kept before it reached, and the campaign is the same
+    /// on one thread as on two.
+    #[test]
+    fn a_guided_campaign_keeps_only_what_is_new_whatever_the_threads() {
+        let (one, two) = (scratch("guided-1"), scratch("guided-2"));
+        let a = in_pool(1, || guided::run(&options(&one, 48, None), &|_| {})).expect("runs");
+        let b = in_pool(2, || guided::run(&options(&two, 48, None), &|_| {})).expect("runs");
+        assert!(a.passed(), "{:?}", a.failures);
+        assert_eq!(a.kept, b.kept);
+        assert!(!a.kept.is_empty(), "48 candidates kept nothing");
+        assert!(a.ran > 24, "{} of 48 ran", a.ran);
+        let mut total = Coverage::new();
+        for name in Scene::builtin_names() {
+            total.merge(&coverage_of(&one.join(format!("builtin-{name}.toml"))));
+        }
+        assert_eq!(total.len(), a.seed_points);
+        for name in &a.kept {
+            let file = one.join(name);
+            assert_eq!(
+                std::fs::read_to_string(&file).expect("kept"),
+                std::fs::read_to_string(two.join(name)).expect("kept on two threads")
+            );
+            let c = coverage_of(&file);
+            assert!(total.new_in(&c) > 0, "{name} reaches nothing new");
+            total.merge(&c);
+        }
+        assert_eq!(total.len(), a.points);
+        assert!(a.curve.windows(2).all(|w| w[0].points <= w[1].points));
+        // A second run over the same folder starts from what the first kept.
+        let again = guided::run(&options(&one, 16, None), &|_| {}).expect("runs");
+        assert_eq!(again.seeds, a.corpus);
+        assert_eq!(again.seed_points, a.points);
+        let _ = std::fs::remove_dir_all(&one);
+        let _ = std::fs::remove_dir_all(&two);
+    }
+
+    /// The campaign can fail: with a fault in a state every pixel visits,
+    /// every candidate that runs fails and is written where `cosim --scene`
+    /// replays it.
+    #[test]
+    fn a_guided_campaign_with_an_injected_fault_fails_with_replayable_scenes() {
+        let dir = scratch("guided-fault");
+        let fault = Fault {
+            state: state::PRI_HALF,
+            xor: 1 << 10,
+        };
+        let r = guided::run(&options(&dir, 16, Some(fault)), &|_| {}).expect("runs");
+        assert!(!r.passed());
+        assert_eq!(r.failures.len() as u64, r.ran);
+        for f in &r.failures {
+            assert!(f.message.contains("diverged"), "{}", f.message);
+            Scene::load(&f.file).expect("the failing scene loads");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_corpus_file_that_does_not_load_is_named() {
+        let dir = scratch("guided-bad");
+        std::fs::create_dir_all(&dir).expect("dir");
+        let bad = dir.join("mine.toml");
+        std::fs::write(&bad, "[camera]\neye = [0, 0, 0]\n").expect("write");
+        match guided::run(&options(&dir, 4, None), &|_| {}) {
+            Err(GuidedError::CorpusFile { path, message }) => {
+                assert_eq!(path, bad);
+                assert!(message.contains("camera"), "{message}");
+            }
+            other => panic!("not refused: {other:?}"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

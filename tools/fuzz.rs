@@ -5,6 +5,7 @@ use crate::args::{parse_fault, CoverageArgs, ShardArgs, ThreadsArgs, TimeoutArgs
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
+use rtcosim::campaign::fuzz::guided::{self, GuidedOptions, GuidedReport, Strategy};
 use rtcosim::campaign::fuzz::summary::{self, Campaign, Summary};
 use rtcosim::campaign::fuzz::{self, FuzzOptions};
 use rtcosim::campaign::shard::file::{self as shard_file, ShardFile};
@@ -50,10 +51,27 @@ pub struct FuzzArgs {
     pub timeout: TimeoutArgs,
     #[command(flatten)]
     pub coverage: CoverageArgs,
+    /// A guided campaign: keep in DIR every candidate that reaches a
+    /// controller transition or a written value class no corpus scene
+    /// reached (golden predicts both), and mutate the corpus for the next
+    /// candidates. DIR starts with the builtin scenes at 16x12 and keeps
+    /// whatever scene files it already holds; --count is the candidates.
+    #[arg(long, value_name = "DIR")]
+    pub corpus: Option<PathBuf>,
+    /// With --corpus: mutate the corpus (guided), or draw fresh scenes only
+    /// (random: the scenes of plain fuzz, measured the same way).
+    #[arg(long, value_enum, default_value_t = Strategy::Guided, requires = "corpus")]
+    pub strategy: Strategy,
+    /// With --corpus: a candidate with more pixels is not run.
+    #[arg(long, value_name = "N", default_value_t = 256, requires = "corpus")]
+    pub max_pixels: u64,
 }
 
 /// Returns whether every scene kept the promise (a shard's, its scenes).
 pub fn run(args: FuzzArgs) -> Result<bool> {
+    if let Some(corpus) = &args.corpus {
+        return run_guided(&args, corpus);
+    }
     if args.first.checked_add(args.count).is_none() {
         anyhow::bail!(
             "--first {} with --count {}: the scenes would run past the last index, {}",
@@ -81,9 +99,7 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         verilator: rtcosim::VERILATOR_VERSION.into(),
     };
     let indices = campaign.indices(shard.unwrap_or(Shard::WHOLE));
-    rtcosim::campaign::fuzz::check_models(args.processor)
-        .map_err(|e| anyhow::anyhow!("fuzz draws every method pair, and needs {e}"))?;
-    let pool = args.threads.pool()?;
+    let pool = models_and_pool(&args)?;
     let threads = pool.current_num_threads();
     let mut out = std::io::stdout().lock();
     writeln!(
@@ -153,6 +169,186 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
     Ok(summary.passed())
 }
 
+/// Refuses a campaign whose models this build lacks (the scenes draw every
+/// method pair), then makes the worker pool.
+fn models_and_pool(args: &FuzzArgs) -> Result<rayon::ThreadPool> {
+    rtcosim::campaign::fuzz::check_models(args.processor)
+        .map_err(|e| anyhow::anyhow!("fuzz draws every method pair, and needs {e}"))?;
+    args.threads.pool()
+}
+
+/// `refused by field: F N, ...`, the most refused first.
+fn refused_line(
+    out: &mut impl Write,
+    by_field: &std::collections::BTreeMap<String, u64>,
+) -> std::io::Result<()> {
+    if by_field.is_empty() {
+        return Ok(());
+    }
+    let mut by_count: Vec<(&String, &u64)> = by_field.iter().collect();
+    by_count.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+    let list: Vec<String> = by_count.iter().map(|(f, n)| format!("{f} {n}")).collect();
+    writeln!(out, "refused by field: {}", list.join(", "))
+}
+
+/// The guided campaign's report in --out.
+pub const GUIDED_REPORT: &str = "guided.json";
+
+/// `fuzz --corpus DIR`: the guided campaign (or its random baseline).
+fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
+    if args.shard.resolve()?.is_some() {
+        anyhow::bail!(
+            "--corpus: a guided campaign is one sequence (each candidate comes from the corpus \
+             the earlier ones left); run it unsharded"
+        );
+    }
+    if args.first != 0 {
+        anyhow::bail!("--corpus: --first does not apply (candidates are numbered from 0)");
+    }
+    if args.max_pixels == 0 {
+        anyhow::bail!("--max-pixels 0: no scene has fewer than one pixel");
+    }
+    if let Some(out) = &args.out {
+        std::fs::create_dir_all(out).with_context(|| format!("--out {}", out.display()))?;
+    }
+    args.coverage.enable()?;
+    let pool = models_and_pool(args)?;
+    let threads = pool.current_num_threads();
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "rtcosim fuzz: {} campaign, {} candidate{}, seed {}, corpus {}, {} processor, {threads} thread{}, {}",
+        match args.strategy {
+            Strategy::Random => "random (fresh scenes only)",
+            s => s.name(),
+        },
+        args.count,
+        plural(args.count),
+        args.seed,
+        corpus.display(),
+        args.processor,
+        plural(threads as u64),
+        rtcosim::VERILATOR_VERSION
+    )?;
+    writeln!(out)?;
+    out.flush()?;
+    let options = GuidedOptions {
+        seed: args.seed,
+        count: args.count,
+        corpus: corpus.to_path_buf(),
+        strategy: args.strategy,
+        max_pixels: args.max_pixels,
+        failures_dir: args.failures.clone(),
+        timeout_cycles: args.timeout.cycles(args.processor),
+        fault: args.fault,
+        processor: args.processor,
+    };
+    let bar = progress_bar(
+        args.count,
+        "fuzzing",
+        "{pos}/{len} candidates, {msg} ({per_sec}, {eta})",
+    )?;
+    let start = Instant::now();
+    let report = pool.install(|| {
+        guided::run(&options, &|p| {
+            bar.set_position(p.candidates);
+            bar.set_message(format!(
+                "corpus {}, {} points, {} transitions",
+                p.corpus, p.points, p.transitions
+            ));
+        })
+    })?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    guided_text(&mut out, &report)?;
+    if let Some(dir) = &args.out {
+        let path = dir.join(GUIDED_REPORT);
+        let json = serde_json::to_string_pretty(&report)?;
+        std::fs::write(&path, json).with_context(|| format!("writing {}", path.display()))?;
+        writeln!(out, "wrote {}", path.display())?;
+    }
+    args.coverage.finish(&mut out)?;
+    writeln!(
+        out,
+        "{} candidates in {seconds:.1} s ({:.1} candidates/s)",
+        report.candidates,
+        report.candidates as f64 / seconds.max(1e-9)
+    )?;
+    Ok(report.passed())
+}
+
+/// The guided campaign's report.
+fn guided_text(out: &mut impl Write, r: &GuidedReport) -> std::io::Result<()> {
+    let refused = r.candidates - r.ran - r.too_big;
+    writeln!(
+        out,
+        "candidates: {}: {} co-simulated ({} pixels), {refused} refused at load, {} over the pixel budget; {} mutants refused and drawn again",
+        r.candidates, r.ran, r.pixels, r.too_big, r.mutants_refused
+    )?;
+    refused_line(out, &r.refused)?;
+    writeln!(
+        out,
+        "corpus: {} seed scenes, {} kept, {} now",
+        r.seeds,
+        r.kept.len(),
+        r.corpus
+    )?;
+    writeln!(
+        out,
+        "coverage (golden's prediction): {} points, {} from the seeds; reachable ISA transitions {} of {}, {} from the seeds",
+        r.points, r.seed_points, r.transitions, r.reachable_transitions, r.seed_transitions
+    )?;
+    if !r.missing_transitions.is_empty() {
+        writeln!(
+            out,
+            "reachable ISA transitions never reached: {}",
+            r.missing_transitions.join(", ")
+        )?;
+    }
+    if !r.new_points.is_empty() {
+        let shown: Vec<String> = r
+            .new_points
+            .iter()
+            .take(6)
+            .map(|(p, file)| format!("{p} ({file})"))
+            .collect();
+        writeln!(
+            out,
+            "newly reached: {} points: {}{}",
+            r.new_points.len(),
+            shown.join(", "),
+            if r.new_points.len() > shown.len() {
+                ", ..."
+            } else {
+                ""
+            }
+        )?;
+    }
+    writeln!(out)?;
+    for f in &r.failures {
+        writeln!(
+            out,
+            "FAILED: candidate {} (written to {p}; replay: rtcosim cosim --scene {p}): {}",
+            f.candidate,
+            f.message,
+            p = f.file.display()
+        )?;
+    }
+    if r.passed() {
+        writeln!(
+            out,
+            "PASS: every candidate that loaded co-simulated with 0 divergences and finite colours"
+        )?;
+    } else {
+        writeln!(
+            out,
+            "FAIL: {} candidates broke the promise",
+            r.failures.len()
+        )?;
+    }
+    Ok(())
+}
+
 /// The report's file name in --out.
 pub const REPORT: &str = "fuzz-report.txt";
 
@@ -202,12 +398,7 @@ fn report_text(out: &mut impl Write, r: &Summary) -> std::io::Result<()> {
         r.in_limits_accepted,
         percent(r.in_limits_accepted, r.in_limits)
     )?;
-    if !r.refused_by_field.is_empty() {
-        let mut by_count: Vec<(&String, &u64)> = r.refused_by_field.iter().collect();
-        by_count.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
-        let list: Vec<String> = by_count.iter().map(|(f, n)| format!("{f} {n}")).collect();
-        writeln!(out, "refused by field: {}", list.join(", "))?;
-    }
+    refused_line(out, &r.refused_by_field)?;
     let c = &r.counts;
     writeln!(
         out,

@@ -121,7 +121,19 @@ pub struct Core<T> {
     /// state, when none) and the XOR on lane x.
     fault_state: u16,
     fault_xor: u32,
+    /// Each instruction's state and cycles, in issue order, when asked
+    /// for ([`Core::record_steps`]): the controller's path through its
+    /// states ([`super::cover`]).
+    steps: Option<Vec<Step>>,
     trace: T,
+}
+
+/// One issued instruction: the state it issued from and the cycles it took
+/// (more than 1: the controller stays in that state until out_valid).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Step {
+    pub state: State,
+    pub cycles: u32,
 }
 
 /// Whether register address `a` belongs to the scene (read-only).
@@ -166,8 +178,21 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             stats: OpStats::default(),
             fault_state,
             fault_xor,
+            steps: None,
             trace,
         }
+    }
+
+    /// From now on, record each instruction's [`Step`] (see
+    /// [`Core::take_steps`]).
+    pub(crate) fn record_steps(&mut self) {
+        self.steps = Some(Vec::with_capacity(256));
+    }
+
+    /// The steps recorded since [`Core::record_steps`] (empty if it was
+    /// not called).
+    pub(crate) fn take_steps(&mut self) -> Vec<Step> {
+        self.steps.take().unwrap_or_default()
     }
 
     /// The physical register `code` decodes to at the current sp.
@@ -227,7 +252,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         y: Vec3f,
         at: &'static Location<'static>,
     ) -> Written {
-        self.count(code);
+        self.count(state, code);
         self.write(state, dst, mask, y, at);
         Written { value: y, mask }
     }
@@ -276,9 +301,16 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     }
 
     #[inline(always)]
-    fn count(&mut self, code: u8) {
+    fn count(&mut self, state: State, code: u8) {
         let class = OpClass::of(code).expect("every issued opcode has a class");
-        self.stats.record(class, self.alu.cycles(code));
+        let cycles = self.alu.cycles(code);
+        self.stats.record(class, cycles);
+        if let Some(steps) = &mut self.steps {
+            steps.push(Step {
+                state,
+                cycles: cycles as u32,
+            });
+        }
     }
 
     /// Lane-wise binary instructions: A, and B in the lanes the ALU routes
@@ -420,19 +452,19 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// DOT1: F = A * B.
     #[track_caller]
     #[inline(always)]
-    pub fn dot1(&mut self, _st: State, a: Reg, b: Reg) {
+    pub fn dot1(&mut self, st: State, a: Reg, b: Reg) {
         let at = Location::caller();
         let (av, bv) = (self.read(a, Lanes::XYZ, at), self.read(b, Lanes::XYZ, at));
         self.alu.dot1(av, bv);
-        self.count(op::DOT1);
+        self.count(st, op::DOT1);
     }
 
     /// DOT2: F.x = F.x + F.y.
     #[track_caller]
     #[inline(always)]
-    pub fn dot2(&mut self, _st: State) {
+    pub fn dot2(&mut self, st: State) {
         self.alu.dot2(Location::caller());
-        self.count(op::DOT2);
+        self.count(st, op::DOT2);
     }
 
     /// DOT3: Y.x = F.x + F.z, i.e. `(a.x*b.x + a.y*b.y) + a.z*b.z`.
@@ -451,11 +483,11 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ISECT1: F = -(A * B) [A = b, B = c].
     #[track_caller]
     #[inline(always)]
-    pub fn isect1(&mut self, _st: State, a: Reg, b: Reg) {
+    pub fn isect1(&mut self, st: State, a: Reg, b: Reg) {
         let at = Location::caller();
         let (av, bv) = (self.read(a, Lanes::XYZ, at), self.read(b, Lanes::XYZ, at));
         self.alu.isect1(av, bv);
-        self.count(op::ISECT1);
+        self.count(st, op::ISECT1);
     }
 
     /// ISECT2: Y = A * B [A = d, B = c]; F = <F.x + F.y, F.y, F.z>.
@@ -471,11 +503,11 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     /// ISECT3: F = <A.x + A.y, F.x + F.z, A.z> [A = g].
     #[track_caller]
     #[inline(always)]
-    pub fn isect3(&mut self, _st: State, a: Reg) {
+    pub fn isect3(&mut self, st: State, a: Reg) {
         let at = Location::caller();
         let g = self.read(a, Lanes::XYZ, at);
         self.alu.isect3(g, at);
-        self.count(op::ISECT3);
+        self.count(st, op::ISECT3);
     }
 
     /// ISECT4: Y = F = <A.x + F.y, F.x + F.z, 0> [A.x = a].

@@ -16,6 +16,8 @@
 //!   and the cycles each opcode takes.
 //! - [`program`]: the controller FSM, the per-pixel program.
 //! - [`stats`]: instruction and cycle counts per class.
+//! - [`cover`]: the controller transitions and written value classes a
+//!   run reaches, as the model predicts them (the guided fuzzer's feedback).
 //! - [`barrel`]: the fast processor's cycle rule (K contexts taking turns),
 //!   beside the compact processor's below.
 //!
@@ -52,6 +54,7 @@
 pub mod alu;
 pub mod barrel;
 pub mod core;
+pub mod cover;
 pub mod fault;
 pub mod isa;
 #[cfg(test)]
@@ -146,6 +149,40 @@ impl Processor {
 }
 
 impl Processor {
+    /// [`Processor::render_pixel`], adding what the pixel reaches (its
+    /// path through the controller's states and the classes of the values
+    /// it writes) to `coverage`.
+    ///
+    /// Panics if (px, py) is outside the image.
+    pub fn render_pixel_covered(
+        &self,
+        px: u32,
+        py: u32,
+        coverage: &mut cover::Coverage,
+    ) -> PixelResult {
+        let mut program = self.program(px, py, |e: &TraceEvent, _: &_| coverage.add_write(e));
+        program.core.record_steps();
+        let rgb = program::rgb_of(program.run());
+        let ops = program.core.stats;
+        let steps = program.core.take_steps();
+        drop(program);
+        coverage.add_path(&steps);
+        PixelResult {
+            rgb,
+            cycles: ops.instruction_cycles() + FIXED_CYCLES,
+            ops,
+        }
+    }
+
+    /// What every pixel of `window` reaches.
+    pub fn coverage(&self, window: crate::window::Window) -> cover::Coverage {
+        let mut coverage = cover::Coverage::new();
+        for (x, y) in window.iter() {
+            self.render_pixel_covered(x, y, &mut coverage);
+        }
+        coverage
+    }
+
     /// The colour of pixel (px, py) with its primary direction replaced by
     /// `nudge(direction)` (the perturbation study, `golden::stability`): a
     /// model-only path, untraced, not what the RTL computes.

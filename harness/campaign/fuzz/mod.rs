@@ -9,6 +9,8 @@
 //! The report is in scene order and does not depend on the thread count.
 
 pub mod generate;
+pub mod guided;
+pub mod mutator;
 pub mod summary;
 
 use crate::check::compare::{CompareReport, Labels, StateSet};
@@ -151,7 +153,7 @@ pub fn check_models(processor: ProcessorKind) -> Result<(), PpError> {
 
 /// A worker's models, one per design (the campaign's processor with each
 /// method pair the scenes draw), built when first needed.
-type Models = Vec<(Design, Dut)>;
+pub(super) type Models = Vec<(Design, Dut)>;
 
 /// The model of `design` in `models`, built (with `options`' timeout and
 /// fault) if missing.
@@ -198,7 +200,7 @@ fn run_scene(
 
 /// A field path without its indices: `sphere[2].center[0]` ->
 /// `sphere.center`, so refusals count by kind of field.
-fn field_kind(field: &str) -> String {
+pub(super) fn field_kind(field: &str) -> String {
     let mut out = String::with_capacity(field.len());
     let mut depth = 0;
     for c in field.chars() {
@@ -212,7 +214,10 @@ fn field_kind(field: &str) -> String {
     out
 }
 
-fn check(
+/// Co-simulates every pixel of `scene` on `processor` (a model of
+/// `models`, built if missing) and checks its colours against the f64
+/// reference.
+pub(super) fn check(
     models: &mut Models,
     scene: &Scene,
     options: &CosimOptions,

@@ -21,8 +21,8 @@ mod summary;
 
 pub use dat::{CoverageData, Kind, Point};
 pub use summary::{
-    unreachable, Argued, FileSummary, KindSummary, Summary, TransitionPoint, FAST_UNREACHABLE_PATH,
-    UNREACHABLE_PATH,
+    reachable_transitions, unreachable, Argued, FileSummary, KindSummary, Summary, TransitionPoint,
+    FAST_UNREACHABLE_PATH, TRANSITIONS_PATH, UNREACHABLE_PATH,
 };
 
 use std::path::{Path, PathBuf};

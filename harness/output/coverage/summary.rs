@@ -123,6 +123,39 @@ pub fn unreachable() -> Result<Vec<Argued>, (&'static str, usize, String)> {
     Ok(all)
 }
 
+/// The compact controller's possible transitions: `rtl/cover/pp_ctrl.transitions`
+/// (Yosys SAT, one step with every other register free), every pair of ISA
+/// states a cycle can take, by name.
+pub const TRANSITIONS_PATH: &str = "rtl/cover/pp_ctrl.transitions";
+const TRANSITIONS_TEXT: &str = include_str!("../../../rtl/cover/pp_ctrl.transitions");
+
+/// The ISA's reachable transitions: [`TRANSITIONS_PATH`]'s pairs less those
+/// argued unreachable for pp_ctrl ([`UNREACHABLE_PATH`]), by state name.
+/// What golden's predicted paths (`golden::micro::cover`) are measured
+/// against.
+pub fn reachable_transitions() -> Result<Vec<(String, String)>, (&'static str, usize, String)> {
+    let argued: Vec<(String, String)> = unreachable()?
+        .into_iter()
+        .filter(|a| a.controller == "pp_ctrl")
+        .map(|a| (a.from, a.to))
+        .collect();
+    let mut out = Vec::new();
+    for (i, line) in TRANSITIONS_TEXT.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let pair = match line.split_whitespace().collect::<Vec<_>>()[..] {
+            [from, to] => (from.to_string(), to.to_string()),
+            _ => return Err((TRANSITIONS_PATH, i + 1, format!("`{line}` is not FROM TO"))),
+        };
+        if !argued.contains(&pair) {
+            out.push(pair);
+        }
+    }
+    Ok(out)
+}
+
 /// A transition point of the coverage build: its controller, its states,
 /// and the table line that names it.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]

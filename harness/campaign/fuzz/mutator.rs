@@ -1,0 +1,508 @@
+//! Scene mutations for the guided fuzzer ([`super::guided`]): a candidate
+//! is a corpus scene with one to four changes stacked ("havoc"), made on
+//! the scene file's TOML tree, so every candidate is a file a user could
+//! have written and goes through the same loader and validation.
+//!
+//! The changes know the file's shape only as TOML: numbers, booleans,
+//! strings, arrays and arrays of tables (the objects). What each does:
+//!
+//! - a number: one to 16 f32 ULPs either way (thresholds sit on exact
+//!   values), times a power of two, negated, a special value (zeros, one,
+//!   the smallest normal and subnormal floats, the scene limits of
+//!   `golden::scene`, and their neighbours), another number of the same
+//!   scene (coincidences: equal coordinates, a radius equal to a distance),
+//!   or a uniform draw around it; an integer (image sides, depth) one
+//!   either way or a small count;
+//! - a boolean flipped; a string replaced by one the corpus has at the
+//!   same key (an axis, a facing, a float method);
+//! - an object duplicated, removed, swapped with another (the processors
+//!   search objects in file order), or replaced by one of another corpus
+//!   scene (crossover); a value or a key the scene lacks copied from
+//!   another corpus scene at the same place.
+
+use golden::scene::{
+    MAX_COORD, MAX_DISTANCE, MAX_EXPOSURE, MAX_IOR, MAX_RADIUS, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
+};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use toml::{Table, Value};
+
+/// A step of a path into a TOML tree.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// Every scalar leaf of `table` (numbers, booleans, strings, including
+/// those inside arrays), by path.
+fn leaves(table: &Table) -> Vec<Vec<Step>> {
+    fn walk(v: &Value, path: &mut Vec<Step>, out: &mut Vec<Vec<Step>>) {
+        match v {
+            Value::Table(t) => {
+                for (k, v) in t {
+                    path.push(Step::Key(k.clone()));
+                    walk(v, path, out);
+                    path.pop();
+                }
+            }
+            Value::Array(a) => {
+                for (i, v) in a.iter().enumerate() {
+                    path.push(Step::Index(i));
+                    walk(v, path, out);
+                    path.pop();
+                }
+            }
+            Value::Float(_) | Value::Integer(_) | Value::Boolean(_) | Value::String(_) => {
+                out.push(path.clone())
+            }
+            Value::Datetime(_) => {}
+        }
+    }
+    let mut out = Vec::new();
+    for (k, v) in table {
+        walk(v, &mut vec![Step::Key(k.clone())], &mut out);
+    }
+    out
+}
+
+fn get<'t>(table: &'t Table, path: &[Step]) -> Option<&'t Value> {
+    let (Step::Key(first), rest) = path.split_first()? else {
+        return None;
+    };
+    let mut v = table.get(first)?;
+    for step in rest {
+        v = match (step, v) {
+            (Step::Key(k), Value::Table(t)) => t.get(k)?,
+            (Step::Index(i), Value::Array(a)) => a.get(*i)?,
+            _ => return None,
+        };
+    }
+    Some(v)
+}
+
+fn get_mut<'t>(table: &'t mut Table, path: &[Step]) -> Option<&'t mut Value> {
+    let (Step::Key(first), rest) = path.split_first()? else {
+        return None;
+    };
+    let mut v = table.get_mut(first)?;
+    for step in rest {
+        v = match (step, v) {
+            (Step::Key(k), Value::Table(t)) => t.get_mut(k)?,
+            (Step::Index(i), Value::Array(a)) => a.get_mut(*i)?,
+            _ => return None,
+        };
+    }
+    Some(v)
+}
+
+/// Sets the value at `path`, making the last key if its table lacks it.
+fn set(table: &mut Table, path: &[Step], value: Value) -> bool {
+    let Some((last, parent)) = path.split_last() else {
+        return false;
+    };
+    let parent = if parent.is_empty() {
+        None
+    } else {
+        match get_mut(table, parent) {
+            Some(p) => Some(p),
+            None => return false,
+        }
+    };
+    match (last, parent) {
+        (Step::Key(k), None) => {
+            table.insert(k.clone(), value);
+            true
+        }
+        (Step::Key(k), Some(Value::Table(t))) => {
+            t.insert(k.clone(), value);
+            true
+        }
+        (Step::Index(i), Some(Value::Array(a))) if *i < a.len() => {
+            a[*i] = value;
+            true
+        }
+        _ => false,
+    }
+}
+
+/// The path's keys alone (`sphere.center`): where a value sits whatever
+/// the object's index.
+#[cfg(test)]
+fn shape(path: &[Step]) -> String {
+    path.iter()
+        .filter_map(|s| match s {
+            Step::Key(k) => Some(k.as_str()),
+            Step::Index(_) => None,
+        })
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
+/// The arrays of tables of `table` (`sphere`, `plane`): the objects.
+fn object_lists(table: &Table) -> Vec<String> {
+    table
+        .iter()
+        .filter(
+            |(_, v)| matches!(v, Value::Array(a) if a.iter().all(Value::is_table) && !a.is_empty()),
+        )
+        .map(|(k, _)| k.clone())
+        .collect()
+}
+
+/// Values a number is set to now and then: zeros, one, the float range's
+/// edges, and the scene limits with their neighbours.
+fn special_numbers() -> Vec<f64> {
+    let limits = [
+        MAX_COORD,
+        MAX_RADIUS,
+        MIN_RADIUS,
+        MAX_DISTANCE,
+        MIN_DISTANCE,
+        MAX_EXPOSURE,
+        MAX_IOR,
+        MIN_IOR,
+        1.0,
+    ];
+    let mut out = vec![
+        0.0,
+        -0.0,
+        -1.0,
+        f64::from(f32::MIN_POSITIVE),
+        f64::from(f32::from_bits(1)),
+        f64::from(f32::MAX),
+    ];
+    for l in limits {
+        out.push(f64::from(l));
+        out.push(f64::from(f32::from_bits(l.to_bits() + 1)));
+        out.push(f64::from(f32::from_bits(l.to_bits() - 1)));
+    }
+    out
+}
+
+/// The f32 `ulps` steps from `x` (as f64), through zero and with the sign.
+fn f32_step(x: f64, ulps: i64) -> f64 {
+    // Floats ordered as integers: negative ones mirrored below zero.
+    let key = |f: f32| -> i64 {
+        let b = i64::from(f.to_bits());
+        if b >> 31 == 1 {
+            -(b & 0x7FFF_FFFF)
+        } else {
+            b
+        }
+    };
+    let k = (key(x as f32) + ulps).clamp(-0x7F7F_FFFF, 0x7F7F_FFFF);
+    let bits = if k < 0 {
+        (-k) as u32 | 0x8000_0000
+    } else {
+        k as u32
+    };
+    f64::from(f32::from_bits(bits))
+}
+
+/// One change applied to a scene, for the candidate's header.
+pub type Change = String;
+
+/// Applies one to four changes to `scene` (its TOML tree), drawing from
+/// `rng` and taking crossover material from `donors`; returns what was
+/// done. A change that finds nothing to act on (no object to remove) is
+/// skipped.
+pub fn mutate(scene: &mut Table, donors: &[&Table], rng: &mut ChaCha8Rng) -> Vec<Change> {
+    let count = 1 << rng.random_range(0..3u32);
+    let mut done = Vec::new();
+    for _ in 0..count.min(4) {
+        if let Some(c) = change(scene, donors, rng) {
+            done.push(c);
+        }
+    }
+    done
+}
+
+fn pick<'a, T>(rng: &mut ChaCha8Rng, items: &'a [T]) -> Option<&'a T> {
+    if items.is_empty() {
+        None
+    } else {
+        Some(&items[rng.random_range(0..items.len())])
+    }
+}
+
+fn change(scene: &mut Table, donors: &[&Table], rng: &mut ChaCha8Rng) -> Option<Change> {
+    match rng.random_range(0..10) {
+        0..=5 => change_leaf(scene, rng),
+        6 => change_objects(scene, rng),
+        _ => crossover(scene, donors, rng),
+    }
+}
+
+fn path_text(path: &[Step]) -> String {
+    let mut s = String::new();
+    for step in path {
+        match step {
+            Step::Key(k) if s.is_empty() => s.push_str(k),
+            Step::Key(k) => {
+                s.push('.');
+                s.push_str(k);
+            }
+            Step::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+fn change_leaf(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
+    let all = leaves(scene);
+    let path = pick(rng, &all)?.clone();
+    let numbers: Vec<f64> = all
+        .iter()
+        .filter_map(|p| match get(scene, p) {
+            Some(Value::Float(f)) => Some(*f),
+            Some(Value::Integer(i)) => Some(*i as f64),
+            _ => None,
+        })
+        .collect();
+    let old = get(scene, &path)?.clone();
+    let (new, how) = match old {
+        Value::Float(x) => {
+            let (y, how) = match rng.random_range(0..6) {
+                0 => {
+                    let ulps =
+                        rng.random_range(1..=16i64) * if rng.random_bool(0.5) { 1 } else { -1 };
+                    (f32_step(x, ulps), format!("{ulps:+} ulp"))
+                }
+                1 => {
+                    let k = rng.random_range(-8..=8i32);
+                    (x * 2f64.powi(k), format!("times 2^{k}"))
+                }
+                2 => (-x, "negated".into()),
+                3 => {
+                    let s = *pick(rng, &special_numbers())?;
+                    (s, "a special value".into())
+                }
+                4 => {
+                    let y = *pick(rng, &numbers)?;
+                    (y, "another number of the scene".into())
+                }
+                _ => {
+                    let r = if x == 0.0 { 1.0 } else { 2.0 * x.abs() };
+                    (rng.random_range(-r..=r), "drawn around it".into())
+                }
+            };
+            // What the file can spell: an f32, written back exactly.
+            (Value::Float(f64::from(y as f32)), how)
+        }
+        Value::Integer(i) => {
+            let y = match rng.random_range(0..3) {
+                0 => i + 1,
+                1 => i - 1,
+                _ => rng.random_range(1..=16),
+            };
+            (Value::Integer(y), "an integer moved".into())
+        }
+        Value::Boolean(b) => (Value::Boolean(!b), "flipped".into()),
+        // Strings are changed by crossover, from the corpus' own.
+        _ => return None,
+    };
+    let text = format!("{} {} ({})", path_text(&path), how, value_text(&new));
+    set(scene, &path, new).then_some(text)
+}
+
+fn value_text(v: &Value) -> String {
+    match v {
+        Value::Float(f) => format!("{f:e}"),
+        other => other.to_string(),
+    }
+}
+
+fn change_objects(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
+    let lists = object_lists(scene);
+    let key = pick(rng, &lists)?.clone();
+    let Some(Value::Array(objects)) = scene.get_mut(&key) else {
+        return None;
+    };
+    let n = objects.len();
+    let i = rng.random_range(0..n);
+    match rng.random_range(0..3) {
+        0 => {
+            let copy = objects[i].clone();
+            let at = rng.random_range(0..=n);
+            objects.insert(at, copy);
+            Some(format!("{key}[{i}] duplicated at {at}"))
+        }
+        1 => {
+            objects.remove(i);
+            Some(format!("{key}[{i}] removed"))
+        }
+        _ => {
+            let j = rng.random_range(0..n);
+            objects.swap(i, j);
+            Some(format!("{key}[{i}] and {key}[{j}] swapped"))
+        }
+    }
+}
+
+/// `path` of another scene at the same place in `scene`: indices of object
+/// lists wrapped into ours (a value's own lanes, `center[2]`, stay), or
+/// None where `scene` has no object list there.
+fn wrap(scene: &Table, path: &[Step]) -> Option<Vec<Step>> {
+    let mut ours = Vec::new();
+    for (k, step) in path.iter().enumerate() {
+        match step {
+            Step::Index(i) => {
+                let len = match get(scene, &ours) {
+                    Some(Value::Array(a)) => a.len(),
+                    _ => return None,
+                };
+                if len == 0 {
+                    return None;
+                }
+                let wrapped = if k + 1 < path.len() { i % len } else { *i };
+                ours.push(Step::Index(wrapped));
+            }
+            key => ours.push(key.clone()),
+        }
+    }
+    Some(ours)
+}
+
+/// A value (or an object) of a donor scene put at the same place in
+/// `scene`: a leaf at a path of the same shape (indices taken modulo the
+/// scene's own), or a whole object.
+fn crossover(scene: &mut Table, donors: &[&Table], rng: &mut ChaCha8Rng) -> Option<Change> {
+    let donor = *pick(rng, donors)?;
+    if rng.random_bool(0.3) {
+        let lists = object_lists(donor);
+        let key = pick(rng, &lists)?.clone();
+        let Some(Value::Array(theirs)) = donor.get(&key) else {
+            return None;
+        };
+        let object = pick(rng, theirs)?.clone();
+        let ours = scene
+            .entry(key.clone())
+            .or_insert_with(|| Value::Array(Vec::new()));
+        let Value::Array(ours) = ours else {
+            return None;
+        };
+        if ours.is_empty() || rng.random_bool(0.5) {
+            ours.push(object);
+            return Some(format!("a {key} of another corpus scene added"));
+        }
+        let at = rng.random_range(0..ours.len());
+        ours[at] = object;
+        return Some(format!(
+            "{key}[{at}] replaced by one of another corpus scene"
+        ));
+    }
+    let theirs = leaves(donor);
+    // Half the time a value at a place the scene does not have (an
+    // optional key: a weight cutoff, an exposure, glass), if there is one.
+    let missing: Vec<Vec<Step>> = theirs
+        .iter()
+        .filter(|p| wrap(scene, p).is_some_and(|w| get(scene, &w).is_none()))
+        .cloned()
+        .collect();
+    let from = if !missing.is_empty() && rng.random_bool(0.5) {
+        &missing
+    } else {
+        &theirs
+    };
+    let path = pick(rng, from)?.clone();
+    let value = get(donor, &path)?.clone();
+    let ours = wrap(scene, &path)?;
+    let text = format!(
+        "{} from another corpus scene ({})",
+        path_text(&ours),
+        value_text(&value)
+    );
+    set(scene, &ours, value).then_some(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    fn reference() -> Table {
+        let scene = golden::scene::Scene::reference();
+        scene
+            .to_toml()
+            .parse::<Table>()
+            .expect("the reference's TOML")
+    }
+
+    #[test]
+    fn f32_steps_cross_zero_and_keep_to_floats() {
+        assert_eq!(f32_step(1.0, 1), f64::from(f32::from_bits(0x3F80_0001)));
+        assert_eq!(f32_step(1.0, -1), f64::from(f32::from_bits(0x3F7F_FFFF)));
+        assert_eq!(f32_step(0.0, -1), -f64::from(f32::from_bits(1)));
+        assert_eq!(
+            f32_step(-f64::from(f32::from_bits(1)), 2),
+            f64::from(f32::from_bits(1))
+        );
+        assert_eq!(f32_step(f64::from(f32::MAX), 5), f64::from(f32::MAX));
+    }
+
+    #[test]
+    fn a_path_reads_and_writes_the_same_place() {
+        let mut t = reference();
+        let all = leaves(&t);
+        assert!(all.iter().any(|p| shape(p) == "sphere.center"));
+        assert!(all.iter().any(|p| shape(p) == "camera.width"));
+        let path = vec![
+            Step::Key("sphere".into()),
+            Step::Index(1),
+            Step::Key("radius".into()),
+        ];
+        assert!(set(&mut t, &path, Value::Float(3.5)));
+        assert_eq!(get(&t, &path), Some(&Value::Float(3.5)));
+        // A key the table lacks is made; an index past the end is not.
+        let ior = vec![
+            Step::Key("sphere".into()),
+            Step::Index(0),
+            Step::Key("ior".into()),
+        ];
+        assert!(set(&mut t, &ior, Value::Float(1.5)));
+        let past = vec![
+            Step::Key("sphere".into()),
+            Step::Index(99),
+            Step::Key("radius".into()),
+        ];
+        assert!(!set(&mut t, &past, Value::Float(1.0)));
+    }
+
+    /// Mutants of the reference: each is a different file, most load, and
+    /// a seed gives the same ones again.
+    #[test]
+    fn mutants_change_the_file_and_most_still_load() {
+        let base = reference();
+        let donor = golden::scene::Scene::builtin("glass_room")
+            .expect("a builtin")
+            .to_toml()
+            .parse::<Table>()
+            .expect("TOML");
+        let run = |seed| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            (0..200)
+                .map(|_| {
+                    let mut t = base.clone();
+                    let changes = mutate(&mut t, &[&donor], &mut rng);
+                    (toml::to_string(&t).expect("writes"), changes)
+                })
+                .collect::<Vec<_>>()
+        };
+        let a = run(7);
+        assert_eq!(a, run(7));
+        let original = toml::to_string(&base).expect("writes");
+        let changed = a.iter().filter(|(t, _)| *t != original).count();
+        assert!(changed > 150, "only {changed} of 200 changed");
+        let loaded = a
+            .iter()
+            .filter(|(t, _)| golden::scene::Scene::from_toml(t, "mutant").is_ok())
+            .count();
+        assert!(loaded > 100, "only {loaded} of 200 load");
+        // What was done is said, for the kept scene's header.
+        assert!(a
+            .iter()
+            .filter(|(t, _)| *t != original)
+            .all(|(_, c)| !c.is_empty()));
+    }
+}
