@@ -188,6 +188,16 @@ mod guided {
         }
         assert_eq!(total.len(), a.points);
         assert!(a.curve.windows(2).all(|w| w[0].points <= w[1].points));
+        // Minimized, the corpus reaches the same points with fewer files.
+        let min = one.join("min");
+        let (all, kept, points) = guided::minimize_into(&one, &min).expect("minimizes");
+        assert_eq!((all, points), (a.corpus, a.points));
+        assert!(kept < all, "{kept} of {all}");
+        let mut again_total = Coverage::new();
+        for f in std::fs::read_dir(&min).expect("min") {
+            again_total.merge(&coverage_of(&f.expect("entry").path()));
+        }
+        assert_eq!(again_total.len(), a.points);
         // A second run over the same folder starts from what the first kept.
         let again = guided::run(&options(&one, 16, None), &|_| {}).expect("runs");
         assert_eq!(again.seeds, a.corpus);

@@ -65,6 +65,10 @@ pub struct FuzzArgs {
     /// With --corpus: a candidate with more pixels is not run.
     #[arg(long, value_name = "N", default_value_t = 256, requires = "corpus")]
     pub max_pixels: u64,
+    /// With --corpus: run no candidate, but copy into OUT the fewest
+    /// corpus scenes that together reach every point the corpus reaches.
+    #[arg(long, value_name = "OUT", requires = "corpus")]
+    pub minimize_into: Option<PathBuf>,
 }
 
 /// Returns whether every scene kept the promise (a shard's, its scenes).
@@ -196,6 +200,16 @@ pub const GUIDED_REPORT: &str = "guided.json";
 
 /// `fuzz --corpus DIR`: the guided campaign (or its random baseline).
 fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
+    if let Some(into) = &args.minimize_into {
+        let (all, kept, points) = guided::minimize_into(corpus, into)?;
+        println!(
+            "{}: {all} scene{}, {points} points; the fewest that reach them all: {kept}, copied into {}",
+            corpus.display(),
+            plural(all as u64),
+            into.display()
+        );
+        return Ok(true);
+    }
     if args.shard.resolve()?.is_some() {
         anyhow::bail!(
             "--corpus: a guided campaign is one sequence (each candidate comes from the corpus \

@@ -88,6 +88,8 @@ pub struct Entry {
     pub name: String,
     pub table: Table,
     pub coverage: Coverage,
+    /// Its image's pixels: what co-simulating it costs.
+    pub pixels: u64,
 }
 
 /// An error that stops the campaign before or while it runs: a corpus file
@@ -244,9 +246,56 @@ pub fn load_corpus(dir: &Path) -> Result<Vec<Entry>, GuidedError> {
                     .unwrap_or_default(),
                 table,
                 coverage,
+                pixels: scene.pixel_count(),
             })
         })
         .collect()
+}
+
+/// The smallest set of entries (found greedily: the entry that adds the
+/// most points not yet covered, the one with fewer pixels on a tie, then
+/// the earlier) whose points together are all of `entries`' points; their
+/// indices, in `entries`' order.
+pub fn minimize(entries: &[Entry]) -> Vec<usize> {
+    let mut covered = Coverage::new();
+    let mut chosen = Vec::new();
+    loop {
+        let best = entries
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                (
+                    covered.new_in(&e.coverage),
+                    std::cmp::Reverse(e.pixels),
+                    std::cmp::Reverse(i),
+                )
+            })
+            .filter(|&(new, _, _)| new > 0)
+            .max();
+        let Some((_, _, std::cmp::Reverse(i))) = best else {
+            break;
+        };
+        covered.merge(&entries[i].coverage);
+        chosen.push(i);
+    }
+    chosen.sort_unstable();
+    chosen
+}
+
+/// `fuzz --corpus DIR --minimize-into OUT`: copies the files of
+/// [`minimize`]'s set from `dir` into `out`; returns (files in `dir`,
+/// files copied, points).
+pub fn minimize_into(dir: &Path, out: &Path) -> Result<(usize, usize, usize), GuidedError> {
+    let entries = load_corpus(dir)?;
+    let chosen = minimize(&entries);
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let mut points = Coverage::new();
+    for &i in &chosen {
+        let (from, to) = (dir.join(&entries[i].name), out.join(&entries[i].name));
+        std::fs::copy(&from, &to).map_err(io(&to))?;
+        points.merge(&entries[i].coverage);
+    }
+    Ok((entries.len(), chosen.len(), points.len()))
 }
 
 /// A candidate scene file and how it was made.
@@ -480,6 +529,7 @@ pub fn run(
                             name,
                             table,
                             coverage,
+                            pixels,
                         });
                     }
                 }
@@ -504,4 +554,37 @@ pub fn run(
         .collect();
     report.corpus = corpus.len();
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use golden::micro::isa::State;
+
+    fn entry(name: &str, pixels: u64, points: &[(u16, u16)]) -> Entry {
+        let mut coverage = Coverage::new();
+        for &(a, b) in points {
+            coverage.insert(Point::Transition(State(a), State(b)));
+        }
+        Entry {
+            name: name.into(),
+            table: Table::new(),
+            coverage,
+            pixels,
+        }
+    }
+
+    #[test]
+    fn minimizing_keeps_every_point_with_fewer_scenes() {
+        let entries = [
+            entry("a", 10, &[(1, 2)]),
+            entry("b", 10, &[(1, 2), (2, 3)]),
+            entry("c", 50, &[(3, 4), (4, 5)]),
+            entry("d", 5, &[(3, 4), (4, 5)]),
+            entry("e", 10, &[]),
+        ];
+        // b covers a; d is c's points at fewer pixels; e adds nothing.
+        assert_eq!(minimize(&entries), vec![1, 3]);
+        assert_eq!(minimize(&[]), Vec::<usize>::new());
+    }
 }
