@@ -283,7 +283,13 @@ fn change_leaf(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
                     (y, "another number of the scene".into())
                 }
                 _ => {
-                    let r = if x == 0.0 { 1.0 } else { 2.0 * x.abs() };
+                    // An earlier change of the stack may have left an
+                    // infinity or a NaN (the loader refuses either).
+                    let r = if x == 0.0 || !x.is_finite() {
+                        1.0
+                    } else {
+                        2.0 * x.abs()
+                    };
                     (rng.random_range(-r..=r), "drawn around it".into())
                 }
             };
@@ -467,6 +473,19 @@ mod tests {
             Step::Key("radius".into()),
         ];
         assert!(!set(&mut t, &past, Value::Float(1.0)));
+    }
+
+    /// A stack of changes may leave an infinity or a NaN that a later
+    /// change of the same stack acts on: no change panics on one.
+    #[test]
+    fn non_finite_numbers_are_changed_without_a_panic() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for _ in 0..2000 {
+            let mut t: Table = "x = inf\ny = nan\nz = -inf\nw = 3.4e38"
+                .parse()
+                .expect("TOML");
+            mutate(&mut t, &[], &mut rng);
+        }
     }
 
     /// Mutants of the reference: each is a different file, most load, and
