@@ -259,10 +259,9 @@ fn predicted(scene: &golden::scene::Scene) -> std::collections::BTreeSet<Transit
         .coverage(golden::window::Window::full(scene))
         .points()
         .filter_map(|p| match p {
-            golden::micro::cover::Point::Transition(..) => {
-                let text = p.to_string();
-                let (a, b) = text.split_once(" -> ").expect("FROM -> TO");
-                Some((a.to_string(), b.to_string()))
+            golden::micro::cover::Point::Transition(a, b) => {
+                let name = |s: isa::State| isa::state_name(s.0).expect("a named state").to_string();
+                Some((name(a), name(b)))
             }
             golden::micro::cover::Point::Value(..) => None,
         })

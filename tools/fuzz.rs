@@ -163,14 +163,26 @@ pub fn run(args: FuzzArgs) -> Result<bool> {
         }
         _ => finish(&mut out, &summary, args.out.as_deref())?,
     }
-    args.coverage.finish(&mut out)?;
+    closing(&mut out, &args.coverage, summary.scenes, "scenes", seconds)?;
+    Ok(summary.passed())
+}
+
+/// The end of a campaign's output: the coverage reports, if asked for,
+/// and the rate (`N scenes in S s`).
+fn closing(
+    out: &mut impl Write,
+    coverage: &CoverageArgs,
+    count: u64,
+    noun: &str,
+    seconds: f64,
+) -> Result<()> {
+    coverage.finish(out)?;
     writeln!(
         out,
-        "{} scenes in {seconds:.1} s ({:.1} scenes/s)",
-        summary.scenes,
-        summary.scenes as f64 / seconds.max(1e-9)
+        "{count} {noun} in {seconds:.1} s ({:.1} {noun}/s)",
+        count as f64 / seconds.max(1e-9)
     )?;
-    Ok(summary.passed())
+    Ok(())
 }
 
 /// Refuses a campaign whose models this build lacks (the scenes draw every
@@ -281,12 +293,12 @@ fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
         std::fs::write(&path, json).with_context(|| format!("writing {}", path.display()))?;
         writeln!(out, "wrote {}", path.display())?;
     }
-    args.coverage.finish(&mut out)?;
-    writeln!(
-        out,
-        "{} candidates in {seconds:.1} s ({:.1} candidates/s)",
+    closing(
+        &mut out,
+        &args.coverage,
         report.candidates,
-        report.candidates as f64 / seconds.max(1e-9)
+        "candidates",
+        seconds,
     )?;
     Ok(report.passed())
 }

@@ -89,6 +89,18 @@ pub struct PixelResult {
     pub ops: OpStats,
 }
 
+impl PixelResult {
+    /// The result of a pixel whose run left `rgb` (STK0_COL's bits) after
+    /// the instructions `ops`.
+    fn of(rgb: [u32; 3], ops: OpStats) -> PixelResult {
+        PixelResult {
+            rgb: program::rgb_of(rgb),
+            cycles: ops.instruction_cycles() + FIXED_CYCLES,
+            ops,
+        }
+    }
+}
+
 /// A pixel processor with a scene loaded: the register image and the
 /// controller's configuration, built once and shared by every pixel.
 #[derive(Debug, Clone)]
@@ -138,13 +150,8 @@ impl Processor {
         F: FnMut(&TraceEvent, &'static Location<'static>),
     {
         let mut program = self.program(px, py, trace);
-        let rgb = program::rgb_of(program.run());
-        let ops = program.core.stats;
-        PixelResult {
-            rgb,
-            cycles: ops.instruction_cycles() + FIXED_CYCLES,
-            ops,
-        }
+        let rgb = program.run();
+        PixelResult::of(rgb, program.core.stats)
     }
 }
 
@@ -162,16 +169,11 @@ impl Processor {
     ) -> PixelResult {
         let mut program = self.program(px, py, |e: &TraceEvent, _: &_| coverage.add_write(e));
         program.core.record_steps();
-        let rgb = program::rgb_of(program.run());
-        let ops = program.core.stats;
-        let steps = program.core.take_steps();
+        let rgb = program.run();
+        let (ops, steps) = (program.core.stats, program.core.take_steps());
         drop(program);
         coverage.add_path(&steps);
-        PixelResult {
-            rgb,
-            cycles: ops.instruction_cycles() + FIXED_CYCLES,
-            ops,
-        }
+        PixelResult::of(rgb, ops)
     }
 
     /// What every pixel of `window` reaches.
