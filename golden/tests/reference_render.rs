@@ -10,7 +10,7 @@ use glam::DVec3;
 use golden::reference::{
     light_visible, nearest_hit, primary_direction, render, render_pixel, Object,
 };
-use golden::scene::Scene;
+use golden::scene::{Scene, MIN_RADIUS_OF_EXTENT};
 use std::error::Error;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -342,30 +342,109 @@ fn the_full_size_reference_and_mirror_scenes_never_exceed_1() {
 }
 
 /// A scene the fuzzer found (tests/fixtures): a sphere at the coordinate
-/// limit. Every colour of both models is finite, and the micro-op model,
-/// which cannot resolve the sphere in f32, and the reference agree there.
+/// limit beside spheres of radius 3 to 83. The f64 reference once gave an
+/// infinite colour there; now the scene is refused: its extent is 2^60, and
+/// a sphere of radius 5 is far below 2^-16 of it (MIN_RADIUS_OF_EXTENT).
 #[test]
-fn a_sphere_at_the_coordinate_limit_gives_finite_colours_in_both_models() {
+fn a_sphere_at_the_coordinate_limit_beside_small_ones_is_refused() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/fuzz-seed-1-scene-3333.toml");
-    let scene = Scene::load(&path).expect("the fixture loads");
-    let micro = golden::micro::Processor::new(&scene);
-    for y in 0..scene.camera.height {
-        for x in 0..scene.camera.width {
-            let r = golden::reference::render_pixel(&scene, x, y);
-            let m = micro.render_pixel(x, y, |_, _| {});
-            assert!(
-                r.iter().all(|c| c.is_finite()),
-                "reference ({x}, {y}): {r:?}"
-            );
-            assert!(
-                m.rgb.iter().all(|c| c.is_finite()),
-                "micro ({x}, {y}): {:?}",
-                m.rgb
-            );
+    let err = Scene::load(&path).expect_err("the fixture is refused");
+    assert_eq!(err.field(), Some("sphere[0].radius"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("2^-16 of the scene's extent 1.1529215e18 (at sphere[2].center[2])"),
+        "{err}"
+    );
+}
+
+/// The spheres the fuzzer found non-finite colours on were far below the
+/// scene's resolution. At exactly MIN_RADIUS_OF_EXTENT, the smallest that
+/// loads, both models give finite colours however the sphere sits: extents
+/// from 1 to 2^59, the sphere at the corners and the middle of the extent
+/// (hit points as far from the origin as a scene allows), opaque or glass,
+/// with and without a mirror wall behind it that sends rays back from
+/// across the extent; the sphere is seen, and shaded as a sphere f32
+/// resolves well.
+#[test]
+fn a_sphere_at_2_to_the_minus_16_of_the_extent_gives_finite_colours() {
+    for e in [0, 10, 40, 59].map(|k| 2f64.powi(k)) {
+        let r = e * f64::from(MIN_RADIUS_OF_EXTENT);
+        for glass in [false, true] {
+            for (sx, sy) in [
+                (1.0, 1.0),
+                (-1.0, 1.0),
+                (1.0, -1.0),
+                (0.0, 0.0),
+                (0.25, -0.75),
+            ] {
+                for wall in [false, true] {
+                    let (x, y) = (sx * e, sy * e);
+                    // The camera sees the sphere across about 80% of the image.
+                    let distance = 0.8 * 16.0 * 1.5 * e / (2.0 * r);
+                    let mut text = format!(
+                        "[camera]\neye = [{x:e}, {y:e}, {:e}]\ndistance = {distance:e}\n\
+                         width = 16\nheight = 16\n\n\
+                         [light]\nposition = [{:e}, {:e}, {:e}]\ncolor = [1.0, 1.0, 1.0]\n\n\
+                         [[sphere]]\ncenter = [{x:e}, {y:e}, {:e}]\nradius = {r:e}\n\
+                         color = [1.0, 1.0, 1.0]\ndiffuse = 1.0\nspecular = 1.0\nreflection = 1.0\n",
+                        -e,
+                        x - 0.5 * e * sx.signum(),
+                        y + 0.5 * e,
+                        -0.5 * e,
+                        0.5 * e,
+                    );
+                    if glass {
+                        text.push_str("transmission = 1.0\nior = 1.5\n");
+                    }
+                    if wall {
+                        text.push_str(&format!(
+                            "\n[[plane]]\naxis = \"z\"\nfacing = \"-\"\noffset = {e:e}\n\
+                             color = [1.0, 1.0, 1.0]\ndiffuse = 0.5\nspecular = 1.0\nreflection = 1.0\n"
+                        ));
+                    }
+                    text.push_str("\n[render]\nmax_depth = 8\n");
+                    let what =
+                        format!("extent {e:e}, sphere at ({sx}, {sy}), glass {glass}, wall {wall}");
+                    let scene = Scene::from_toml(&text, "t.toml")
+                        .unwrap_or_else(|err| panic!("{what}: {err}"));
+                    assert_eq!(
+                        scene.spheres[0].radius,
+                        MIN_RADIUS_OF_EXTENT * e as f32,
+                        "{what}"
+                    );
+                    let micro = golden::micro::Processor::new(&scene);
+                    let mut seen = 0;
+                    let mut brightest = 0.0f32;
+                    for py in 0..16 {
+                        for px in 0..16 {
+                            let reference = golden::reference::render_pixel(&scene, px, py);
+                            let m = micro.render_pixel(px, py, |_, _| {}).rgb;
+                            brightest = m.iter().fold(brightest, |a, &c| a.max(c));
+                            assert!(
+                                reference
+                                    .iter()
+                                    .chain(&m.map(f64::from))
+                                    .all(|c| c.is_finite()),
+                                "{what}, pixel ({px}, {py}): micro {m:?}, reference {reference:?}"
+                            );
+                            let eye = DVec3::from_array(scene.camera.eye.map(f64::from));
+                            let d = golden::reference::primary_direction(&scene, px, py);
+                            seen += usize::from(
+                                golden::reference::nearest_hit(&scene, eye, d, None).is_some_and(
+                                    |(o, _)| o == golden::reference::Object::Sphere(0),
+                                ),
+                            );
+                        }
+                    }
+                    assert!(seen > 64, "{what}: the sphere fills {seen} of 256 pixels");
+                    // The brightest channel is that of a sphere f32 resolves well:
+                    // 3.18053 at 2^-12 of the extent, 3.18062 at this limit
+                    // (up to 5.40 at 2^-20, where a normal's length is off by
+                    // about 1%, raised to the 40th power; infinite far below).
+                    assert!(brightest < 3.19, "{what}: brightest channel {brightest}");
+                }
+            }
         }
     }
-    // The pixel that was infinite: its ray only grazes the far sphere's
-    // neighbourhood, and both models see nothing.
-    assert_eq!(golden::reference::render_pixel(&scene, 4, 3), [0.0; 3]);
 }

@@ -350,28 +350,39 @@ fn magnitudes_past_the_limits_are_refused_naming_field_and_limit() {
             "MAX_COORD",
         ),
     ];
+    // A coordinate at 2^60 makes the scene's extent 2^60: the sphere then
+    // needs a radius of 2^44 (MIN_RADIUS_OF_EXTENT; tested below).
+    let big = edit(BASE, "radius = 1.0", "radius = 1.7592186044416e13");
     for (from, to, field, limit) in cases {
         assert!(BASE.contains(from), "{from}");
-        let at = |v: f64| edit(BASE, from, &to.replace("{}", &format!("{v:e}")));
+        let base = if from.starts_with("radius") {
+            BASE
+        } else {
+            &big
+        };
+        let at = |v: f64| edit(base, from, &to.replace("{}", &format!("{v:e}")));
         Scene::from_toml(&at(max), "t.toml")
             .unwrap_or_else(|e| panic!("{field} = 2^60 is accepted: {e}"));
         assert_refused(&at(past_max), field, limit);
     }
-    for (from, to, field, limit) in [
+    for (base, from, to, field, limit) in [
         (
+            TINY,
             "radius = 1.0",
             "radius = {}",
             "sphere[0].radius",
             "MIN_RADIUS",
         ),
         (
+            BASE,
             "distance = 100.0",
             "distance = {}",
             "camera.distance",
             "MIN_DISTANCE",
         ),
     ] {
-        let at = |v: f64| edit(BASE, from, &to.replace("{}", &format!("{v:e}")));
+        assert!(base.contains(from), "{from}");
+        let at = |v: f64| edit(base, from, &to.replace("{}", &format!("{v:e}")));
         Scene::from_toml(&at(min), "t.toml")
             .unwrap_or_else(|e| panic!("{field} = 2^-60 is accepted: {e}"));
         assert_refused(&at(below_min), field, limit);
@@ -384,6 +395,71 @@ fn magnitudes_past_the_limits_are_refused_naming_field_and_limit() {
         "t.toml: camera.distance: must be in [8.6736174e-19, 1.1529215e18] \
          (MIN_DISTANCE = 2^-60 to MAX_DISTANCE = 2^60: docs/scenes.md), got 1e-38"
     );
+}
+
+/// A scene of extent 2^-46 (eye at z = -2^-46), where a sphere of radius
+/// 2^-60 is more than 2^-16 of the extent.
+const TINY: &str = r#"
+[camera]
+eye = [0.0, 0.0, -1.4210854715202004e-14]
+distance = 8.0
+width = 8
+height = 8
+
+[light]
+position = [0.0, 1.4210854715202004e-14, -1.4210854715202004e-14]
+color = [1.0, 1.0, 1.0]
+
+[[sphere]]
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+color = [1.0, 1.0, 1.0]
+diffuse = 0.5
+specular = 0.5
+reflection = 0.0
+"#;
+
+/// MIN_RADIUS_OF_EXTENT: a sphere of exactly 2^-16 of the scene's extent
+/// loads, one f32 smaller is refused, naming the radius, the extent and the
+/// field that sets it; the extent counts the eye, every sphere centre and
+/// every plane offset, not the light.
+#[test]
+fn a_sphere_below_2_to_the_minus_16_of_the_extent_is_refused() {
+    // BASE: extent 10 (camera.eye[2]); 10 * 2^-16 = 1.52587890625e-4.
+    let least = 10.0 * 2f64.powi(-16);
+    let at = |r: f64| edit(BASE, "radius = 1.0", &format!("radius = {r:e}"));
+    Scene::from_toml(&at(least), "t.toml").expect("2^-16 of the extent loads");
+    let below = f64::from(f32::from_bits((least as f32).to_bits() - 1));
+    let msg = refusal(&at(below)).to_string();
+    assert_eq!(
+        msg,
+        format!(
+            "t.toml: sphere[0].radius: must be at least 1.52587890625e-4, 2^-16 of the \
+             scene's extent 1e1 (at camera.eye[2]), got {:e}: f32 places a point to \
+             2^-24 of its magnitude, so a smaller sphere's hit points and normals are \
+             rounding noise (MIN_RADIUS_OF_EXTENT: docs/scenes.md)",
+            below as f32
+        )
+    );
+    // Each kind of coordinate sets the extent: a far second sphere, a far
+    // plane; the light does not.
+    let far_sphere = format!(
+        "{BASE}{}",
+        edit(SPHERE, "[0.0, 1.0, 5.0]", "[0.0, 1.0, 7e4]")
+    );
+    assert_refused(
+        &far_sphere,
+        "sphere[0].radius",
+        "extent 7e4 (at sphere[1].center[2])",
+    );
+    let far_plane = edit(BASE, "offset = -1.0", "offset = -7e4");
+    assert_refused(
+        &far_plane,
+        "sphere[0].radius",
+        "extent 7e4 (at plane[0].offset)",
+    );
+    let far_light = edit(BASE, "[0.0, 10.0, -10.0]", "[0.0, 10.0, -7e10]");
+    Scene::from_toml(&far_light, "t.toml").expect("a far light does not refuse the sphere");
 }
 
 #[test]

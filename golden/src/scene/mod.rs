@@ -87,8 +87,9 @@ pub(crate) use types::dvec;
 pub use types::{
     Axis, Camera, Light, Material, Object, Plane, RenderSettings, Speedups, Sphere, Vec3f,
     MAX_COORD, MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_IOR, MAX_PLANES,
-    MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
+    MAX_RADIUS, MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS, MIN_RADIUS_OF_EXTENT,
 };
+pub use validate::Extent;
 
 use file::RawScene;
 use std::path::Path;

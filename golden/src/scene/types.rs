@@ -34,6 +34,18 @@ pub const MAX_RADIUS: f32 = (1u64 << 60) as f32;
 /// normal f32, so the sphere test's `r² - w·w` keeps its precision, and
 /// `1/r` <= 2^60.
 pub const MIN_RADIUS: f32 = 1.0 / (1u64 << 60) as f32;
+/// Smallest sphere radius against the scene's extent (the largest
+/// coordinate magnitude of the eye, the sphere centres and the plane
+/// offsets, [`Scene::extent`](super::Scene::extent)), 2^-16. f32 places a
+/// point to 2^-24 of its magnitude, so a hit point `o + t·d` on a sphere
+/// carries an error of a few units of 2^-24 of the scene's extent, and
+/// the normal `(p - c)/r` that error over `r`: at `r` >= 2^-16 of the
+/// extent the normal's length stays within a few 2^-8 of 1, and the
+/// specular term (its 20th power, squared through the mirror ray) within
+/// a few times its exact value. Far smaller spheres are rounding noise when
+/// they are hit at all, and their normals can overflow the shading to
+/// infinity. docs/scenes.md has the measurement.
+pub const MIN_RADIUS_OF_EXTENT: f32 = 1.0 / 65536.0;
 /// Largest image-plane distance, 2^60: a primary direction's `v·v` <=
 /// 2^120 + 2 * 2^22.
 pub const MAX_DISTANCE: f32 = (1u64 << 60) as f32;

@@ -20,7 +20,7 @@ use super::file::{RawCamera, RawLight, RawPlane, RawRender, RawScene, RawSphere}
 use super::types::{
     dvec, Camera, Light, Material, Plane, RenderSettings, Speedups, Sphere, Vec3f, MAX_COORD,
     MAX_DEPTH, MAX_DISTANCE, MAX_EXPOSURE, MAX_IMAGE_SIDE, MAX_IOR, MAX_PLANES, MAX_RADIUS,
-    MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
+    MAX_SPHERES, MIN_DISTANCE, MIN_IOR, MIN_RADIUS, MIN_RADIUS_OF_EXTENT,
 };
 use super::Scene;
 use glam::DVec3;
@@ -49,6 +49,7 @@ pub(super) fn scene(raw: &RawScene, origin: &str) -> Result<Scene, SceneError> {
     check.camera(&camera)?;
     check.light(&light)?;
     check.objects(&spheres, &planes)?;
+    check.resolved(&camera, &spheres, &planes)?;
     check.refraction(&camera, &light, &spheres, &planes)?;
 
     if render.speedups.fast_plane {
@@ -66,6 +67,48 @@ pub(super) fn scene(raw: &RawScene, origin: &str) -> Result<Scene, SceneError> {
         render,
         derived,
     })
+}
+
+/// The scene's extent: the largest coordinate magnitude of the eye, the
+/// sphere centres and the plane offsets, and the field that holds it. (The
+/// light is left out: no ray starts there. Radii are left out: a point on a
+/// sphere far from the others is not an origin of a ray that reaches them,
+/// unless its centre is far too.)
+#[derive(Debug, Clone, PartialEq)]
+pub struct Extent {
+    pub value: f32,
+    /// The first field holding `value` (`camera.eye[2]`).
+    pub field: String,
+}
+
+impl Extent {
+    pub fn of(eye: Vec3f, centres: &[Vec3f], offsets: &[f32]) -> Extent {
+        let points = std::iter::once(("camera.eye".to_string(), eye))
+            .chain((centres.iter().enumerate()).map(|(i, &c)| (format!("sphere[{i}].center"), c)));
+        let coords = points
+            .flat_map(|(at, v)| (0..3).map(move |k| (format!("{at}[{k}]"), v[k])))
+            .chain((offsets.iter().enumerate()).map(|(j, &o)| (format!("plane[{j}].offset"), o)));
+        let mut extent = Extent {
+            value: 0.0,
+            field: "camera.eye[0]".to_string(),
+        };
+        for (field, x) in coords {
+            if x.abs() > extent.value {
+                extent = Extent {
+                    value: x.abs(),
+                    field,
+                };
+            }
+        }
+        extent
+    }
+
+    /// The smallest radius a sphere may have in a scene of this extent
+    /// ([`MIN_RADIUS_OF_EXTENT`] of it; exact: a power of two times an
+    /// f32, in f64).
+    pub fn least_radius(&self) -> f64 {
+        f64::from(self.value) * f64::from(MIN_RADIUS_OF_EXTENT)
+    }
 }
 
 struct Check<'a> {
@@ -377,6 +420,35 @@ impl Check<'_> {
                         "must be 0, got {}: a plane bounds no inside, so light it let through \
                          would never leave it (refraction is for spheres: docs/scenes.md)",
                         p.material.transmission
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every sphere is at least [`MIN_RADIUS_OF_EXTENT`] of the scene's
+    /// extent: smaller ones are below what f32 resolves there.
+    fn resolved(
+        &self,
+        camera: &Camera,
+        spheres: &[Sphere],
+        planes: &[Plane],
+    ) -> Result<(), SceneError> {
+        let centres: Vec<Vec3f> = spheres.iter().map(|s| s.center).collect();
+        let offsets: Vec<f32> = planes.iter().map(|p| p.offset).collect();
+        let extent = Extent::of(camera.eye, &centres, &offsets);
+        let least = extent.least_radius();
+        for (i, s) in spheres.iter().enumerate() {
+            if f64::from(s.radius) < least {
+                return Err(self.fail(
+                    format!("sphere[{i}].radius"),
+                    format!(
+                        "must be at least {least:e}, 2^-16 of the scene's extent {:e} (at {}), \
+                         got {:e}: f32 places a point to 2^-24 of its magnitude, so a smaller \
+                         sphere's hit points and normals are rounding noise \
+                         (MIN_RADIUS_OF_EXTENT: docs/scenes.md)",
+                        extent.value, extent.field, s.radius
                     ),
                 ));
             }
