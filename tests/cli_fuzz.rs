@@ -211,3 +211,76 @@ fn fuzz_runs_on_the_fast_processor() {
         ],
     );
 }
+
+/// A guided campaign with --out writes its report and its chart of
+/// coverage against candidates; `fuzz --chart` draws several campaigns'
+/// curves in one chart, and refuses (exit 2) a file that is not a
+/// campaign's report, naming it, and a chart without --out.
+#[test]
+fn guided_campaigns_are_charted() {
+    let dir = scratch("cli_fuzz", "chart");
+    let (corpus, out) = (dir.join("corpus"), dir.join("out"));
+    let run = rtcosim(&[
+        "fuzz",
+        "--corpus",
+        arg(&corpus),
+        "--count",
+        "16",
+        "--threads",
+        "1",
+        "--out",
+        arg(&out),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", both(&run));
+    for f in ["guided.json", "coverage.svg", "coverage.png"] {
+        assert!(out.join(f).is_file(), "{f}: {}", both(&run));
+    }
+    let report = out.join("guided.json");
+    let chart = dir.join("chart");
+    let drawn = rtcosim(&[
+        "fuzz",
+        "--chart",
+        arg(&report),
+        arg(&report),
+        "--out",
+        arg(&chart),
+    ]);
+    assert_eq!(drawn.status.code(), Some(0), "{}", both(&drawn));
+    let stdout = text(&drawn.stdout);
+    assert_eq!(
+        stdout
+            .lines()
+            .filter(|l| l.starts_with("guided, compact processor, seed 1: 16 candidates, "))
+            .count(),
+        2,
+        "{stdout}"
+    );
+    let svg = std::fs::read_to_string(chart.join("coverage.svg")).expect("the SVG");
+    assert!(svg.contains("reachable ISA transitions"), "{svg}");
+    image::open(chart.join("coverage.png")).expect("the PNG");
+
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{}").expect("write");
+    let refused = rtcosim(&["fuzz", "--chart", arg(&bad), "--out", arg(&chart)]);
+    assert_eq!(refused.status.code(), Some(2), "{}", both(&refused));
+    let stderr = text(&refused.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "{}: not a guided campaign's report",
+            bad.display()
+        )),
+        "{stderr}"
+    );
+    let no_out = rtcosim(&["fuzz", "--chart", arg(&report)]);
+    assert_eq!(no_out.status.code(), Some(2), "{}", both(&no_out));
+    assert!(
+        text(&no_out.stderr).contains("--chart: give --out DIR"),
+        "{}",
+        both(&no_out)
+    );
+    assert_refused(
+        &["fuzz", "--chart", arg(&report), "--corpus", arg(&corpus)],
+        &["'--chart <GUIDED_JSON>...' cannot be used with '--corpus <DIR>'"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

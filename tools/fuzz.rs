@@ -5,6 +5,7 @@ use crate::args::{parse_fault, CoverageArgs, ShardArgs, ThreadsArgs, TimeoutArgs
 use crate::ui::{plural, progress_bar};
 use anyhow::{Context, Result};
 use golden::micro::isa;
+use rtcosim::campaign::fuzz::chart;
 use rtcosim::campaign::fuzz::guided::{self, GuidedOptions, GuidedReport, Strategy};
 use rtcosim::campaign::fuzz::summary::{self, Campaign, Summary};
 use rtcosim::campaign::fuzz::{self, FuzzOptions};
@@ -69,10 +70,19 @@ pub struct FuzzArgs {
     /// corpus scenes that together reach every point the corpus reaches.
     #[arg(long, value_name = "OUT", requires = "corpus")]
     pub minimize_into: Option<PathBuf>,
+    /// Run no candidate, but draw the coverage curves of these guided
+    /// campaigns (the guided.json of `fuzz --corpus DIR --out OUT`) into
+    /// --out DIR as coverage.svg and coverage.png: a guided and a random
+    /// campaign from the same budget, compared.
+    #[arg(long, value_name = "GUIDED_JSON", num_args = 1.., conflicts_with = "corpus")]
+    pub chart: Vec<PathBuf>,
 }
 
 /// Returns whether every scene kept the promise (a shard's, its scenes).
 pub fn run(args: FuzzArgs) -> Result<bool> {
+    if !args.chart.is_empty() {
+        return draw_chart(&args);
+    }
     if let Some(corpus) = &args.corpus {
         return run_guided(&args, corpus);
     }
@@ -291,7 +301,15 @@ fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
         let path = dir.join(GUIDED_REPORT);
         let json = serde_json::to_string_pretty(&report)?;
         std::fs::write(&path, json).with_context(|| format!("writing {}", path.display()))?;
-        writeln!(out, "wrote {}", path.display())?;
+        let (svg, png) = (dir.join(COVERAGE_CHART_SVG), dir.join(COVERAGE_CHART_PNG));
+        chart::write(&[chart::Run::of(&report)], &svg, &png)?;
+        writeln!(
+            out,
+            "wrote {}, {} and {}",
+            path.display(),
+            svg.display(),
+            png.display()
+        )?;
     }
     closing(
         &mut out,
@@ -301,6 +319,35 @@ fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
         seconds,
     )?;
     Ok(report.passed())
+}
+
+/// The chart of coverage against candidates, in --out.
+pub const COVERAGE_CHART_SVG: &str = "coverage.svg";
+pub const COVERAGE_CHART_PNG: &str = "coverage.png";
+
+/// `fuzz --chart`: the curves of finished campaigns in one chart.
+fn draw_chart(args: &FuzzArgs) -> Result<bool> {
+    let Some(dir) = &args.out else {
+        anyhow::bail!("--chart: give --out DIR for coverage.svg and coverage.png");
+    };
+    let runs = args
+        .chart
+        .iter()
+        .map(|p| chart::Run::read(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
+    let (svg, png) = (dir.join(COVERAGE_CHART_SVG), dir.join(COVERAGE_CHART_PNG));
+    chart::write(&runs, &svg, &png)?;
+    for r in &runs {
+        if let Some(&(candidates, points, transitions)) = r.curve.last() {
+            println!(
+                "{}: {candidates} candidates, {points} points, {transitions} of {} reachable transitions",
+                r.label, r.reachable
+            );
+        }
+    }
+    println!("wrote {} and {}", svg.display(), png.display());
+    Ok(true)
 }
 
 /// The guided campaign's report.

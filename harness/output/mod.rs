@@ -8,12 +8,14 @@
 //! - [`coverage`]: what the runs exercised of the RTL: the coverage
 //!   models' counts merged into Verilator's coverage.dat, lcov, HTML and
 //!   a summary.
+//! - [`chart`]: charts as SVG and PNG, their labels in both.
 //! - [`device`]: what a build costs in hardware (rtl/synth/costs.toml),
 //!   and the frames a second of a device full of it; [`area`]: the area
 //!   model behind it.
 
 pub mod area;
 pub mod artefacts;
+pub mod chart;
 pub mod coverage;
 pub mod device;
 pub mod wave;

@@ -113,7 +113,7 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> GuidedError + '_ {
 }
 
 /// Coverage after some candidates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub struct CurvePoint {
     pub candidates: u64,
     pub corpus: usize,
@@ -503,12 +503,31 @@ pub fn run(
                         let firsts: Vec<Point> =
                             coverage.points().filter(|&p| !total.contains(p)).collect();
                         total.merge(&coverage);
+                        // Kept as the smallest centred crop that reaches
+                        // what is new (shrink.rs), if smaller.
+                        let size = |t: &str| {
+                            Scene::from_toml(t, "kept")
+                                .map(|s| format!("{}x{}", s.camera.width, s.camera.height))
+                                .unwrap_or_default()
+                        };
+                        let (text, coverage, pixels, cropped) =
+                            match super::shrink::shrink(&c.text, &firsts) {
+                                Some((t, cov, px)) => {
+                                    let note = format!(
+                                        "\n# cropped from {} to {}: the pixels that reach it",
+                                        size(&c.text),
+                                        size(&t)
+                                    );
+                                    (t, cov, px, note)
+                                }
+                                None => (c.text.clone(), coverage, pixels, String::new()),
+                            };
                         let name = format!("seed-{}-candidate-{:06}.toml", options.seed, c.index);
                         let listed: Vec<String> =
                             firsts.iter().take(8).map(|p| p.to_string()).collect();
                         let more = firsts.len().saturating_sub(listed.len());
                         let header = format!(
-                            "# rtcosim fuzz --corpus: candidate {} of seed {} ({})\n# from: {}\n# first to reach: {}{}\n\n",
+                            "# rtcosim fuzz --corpus: candidate {} of seed {} ({})\n# from: {}\n# first to reach: {}{}{cropped}\n\n",
                             c.index,
                             options.seed,
                             options.strategy.name(),
@@ -517,13 +536,13 @@ pub fn run(
                             if more > 0 { format!(" (and {more} more)") } else { String::new() }
                         );
                         let path = options.corpus.join(&name);
-                        std::fs::write(&path, header + &c.text).map_err(io(&path))?;
+                        std::fs::write(&path, header + &text).map_err(io(&path))?;
                         for p in &firsts {
                             if !seed_coverage.contains(*p) {
                                 report.new_points.push((p.to_string(), name.clone()));
                             }
                         }
-                        let table = c.text.parse::<Table>().unwrap_or_default();
+                        let table = text.parse::<Table>().unwrap_or_default();
                         report.kept.push(name.clone());
                         corpus.push(Entry {
                             name,

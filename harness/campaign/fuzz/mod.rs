@@ -8,9 +8,11 @@
 //! campaign of thousands of tiny scenes does not build thousands of models.
 //! The report is in scene order and does not depend on the thread count.
 
+pub mod chart;
 pub mod generate;
 pub mod guided;
 pub mod mutator;
+pub mod shrink;
 pub mod summary;
 
 use crate::check::compare::{CompareReport, Labels, StateSet};

@@ -20,36 +20,17 @@
 //! error (on the frames/s axis only: the area of its processors, built
 //! from Xilinx IP cores, is not known).
 //!
-//! Text: plotters' own text rendering needs its `ttf` feature (font-kit,
-//! which needs fontconfig and freetype) or `ab_glyph` with font bytes from
-//! somewhere; neither is allowed or guaranteed. So plotters draws the shapes
-//! only, and the labels are a list drawn afterwards: into the SVG as text
-//! elements (the viewer picks a sans-serif font), into the PNG with golden's
-//! built-in bitmap font (embedded-graphics' FONT_6X9 via
-//! [`golden::diffmap::font`]). Both files carry
-//! the same labels at the same places.
+//! Its labels are drawn by [`crate::output::chart`].
 
 use super::{Axis, Row, SceneSweep, SweepError};
 use crate::design::processor::ProcessorKind;
-use golden::diffmap::font;
+use crate::output::chart::{self, ticks, Anchor, Drawing, Label, LEFT, TOP, WIDTH};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
-/// The chart's size in pixels.
-pub const WIDTH: u32 = 960;
-pub const HEIGHT: u32 = 640;
-
-const LEFT: u32 = 90;
-const RIGHT: u32 = 30;
-const TOP: u32 = 70;
-const BOTTOM: u32 = 60;
-
-/// PNG text: each font pixel a SCALE x SCALE square; SVG text of the same
-/// height.
-const SCALE: u32 = 2;
-const SVG_TEXT_PX: f64 = 16.0;
+const RIGHT: u32 = chart::RIGHT;
+const BOTTOM: u32 = chart::BOTTOM;
 
 const GREY: RGBColor = RGBColor(150, 150, 150);
 const FRONT: RGBColor = RGBColor(30, 90, 200);
@@ -57,80 +38,23 @@ const CONFIRMED: RGBColor = RGBColor(0, 150, 60);
 const FAILED: RGBColor = RGBColor(210, 30, 30);
 const THESIS: RGBColor = RGBColor(230, 120, 0);
 
-/// A label: text at a pixel, anchored by its left, centre or right edge
-/// and its top.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Label {
-    pub text: String,
-    pub x: i32,
-    pub y: i32,
-    pub anchor: Anchor,
-}
-
-/// Which edge of a label its x is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Anchor {
-    Left,
-    Center,
-    Right,
-}
-
-impl From<Anchor> for HPos {
-    fn from(a: Anchor) -> HPos {
-        match a {
-            Anchor::Left => HPos::Left,
-            Anchor::Center => HPos::Center,
-            Anchor::Right => HPos::Right,
-        }
-    }
-}
-
 /// Writes the chart of `sweep` to `svg` and `png`.
 pub fn write(sweep: &SceneSweep, svg: &Path, png: &Path) -> Result<(), SweepError> {
-    let err = |path: &Path| {
-        let path = path.to_path_buf();
-        move |reason: String| SweepError::Chart {
-            path: path.clone(),
-            reason,
-        }
-    };
-    {
-        let root = SVGBackend::new(svg, (WIDTH, HEIGHT)).into_drawing_area();
-        let labels = draw(&root, sweep).map_err(err(svg))?;
-        for l in &labels {
-            let style = ("sans-serif", SVG_TEXT_PX)
-                .into_font()
-                .color(&BLACK)
-                .pos(Pos::new(l.anchor.into(), VPos::Top));
-            root.draw(&Text::new(l.text.as_str(), (l.x, l.y), style))
-                .map_err(|e| err(svg)(e.to_string()))?;
-        }
-        root.present().map_err(|e| err(svg)(e.to_string()))?;
+    chart::write(&Chart(sweep), svg, png).map_err(|e| SweepError::Chart {
+        path: e.path,
+        reason: e.reason,
+    })
+}
+
+struct Chart<'a>(&'a SceneSweep);
+
+impl Drawing for Chart<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<Vec<Label>, String> {
+        draw(root, self.0)
     }
-    let mut buf = vec![0u8; WIDTH as usize * HEIGHT as usize * 3];
-    let labels = {
-        let root = BitMapBackend::with_buffer(&mut buf, (WIDTH, HEIGHT)).into_drawing_area();
-        let labels = draw(&root, sweep).map_err(err(png))?;
-        root.present().map_err(|e| err(png)(e.to_string()))?;
-        labels
-    };
-    let mut img = image::RgbImage::from_raw(WIDTH, HEIGHT, buf).expect("3 bytes a pixel");
-    for l in &labels {
-        let w = font::text_width(&l.text, SCALE) as i32;
-        let left = match l.anchor {
-            Anchor::Left => l.x,
-            Anchor::Center => l.x - w / 2,
-            Anchor::Right => l.x - w,
-        };
-        font::draw_text(&l.text, 0, 0, SCALE, &mut |dx, dy| {
-            let (x, y) = (left + dx as i32, l.y + dy as i32);
-            if (0..WIDTH as i32).contains(&x) && (0..HEIGHT as i32).contains(&y) {
-                img.put_pixel(x as u32, y as u32, image::Rgb([0, 0, 0]));
-            }
-        });
-    }
-    img.save_with_format(png, image::ImageFormat::Png)
-        .map_err(|e| err(png)(e.to_string()))
 }
 
 /// The front as steps, `points` best on the axis first: from each point
@@ -179,20 +103,6 @@ fn fps_decades(rows: &[Row], thesis: Option<f64>) -> (i32, i32) {
     let hi = fps.iter().copied().fold(0.0, f64::max);
     let (lo, hi) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
     (lo, hi.max(lo + 1))
-}
-
-/// Ticks at 1, 2 or 5 times a power of ten, about six across [lo, hi].
-fn ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let raw = (hi - lo) / 6.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
-    (first..=last).map(|k| k as f64 * step).collect()
 }
 
 /// The chart's x: where a value of the sweep's [`Axis`] is plotted
@@ -284,7 +194,7 @@ fn draw<DB: DrawingBackend>(
     let y_of = |r: &Row| error(r).map(|v| v.max(y0)).unwrap_or(y0);
     let at = |r: &Row| (x.at(sweep.axis.value(r)), y_of(r));
     let mut labels = Vec::new();
-    let label = |text: String, (x, y): (i32, i32), anchor| Label { text, x, y, anchor };
+    let label = |text: String, at: (i32, i32), anchor| Label::new(text, at, anchor);
 
     // Grid, frame and tick labels.
     let light = ShapeStyle::from(&RGBColor(225, 225, 225)).stroke_width(1);
@@ -392,14 +302,7 @@ fn draw<DB: DrawingBackend>(
         (LEFT as i32, TOP as i32 - 26),
         Anchor::Left,
     ));
-    labels.push(label(
-        x.title(),
-        (
-            (LEFT + (WIDTH - LEFT - RIGHT) / 2) as i32,
-            (HEIGHT - BOTTOM) as i32 + 32,
-        ),
-        Anchor::Center,
-    ));
+    labels.push(chart::x_title(x.title()));
 
     // Legend, top left (the slow, inaccurate corner, which the front
     // leaves empty): a marker and its text per line.
@@ -421,31 +324,6 @@ fn draw<DB: DrawingBackend>(
     if zero > 0 {
         legend.push((format!("error exactly 0 ({zero}): bottom edge"), GREY));
     }
-    let lx = LEFT as i32 + 12;
-    for (i, (text, colour)) in legend.iter().enumerate() {
-        let ly = TOP as i32 + 12 + 24 * i as i32;
-        root.draw(&Rectangle::new(
-            [(lx, ly + 2), (lx + 10, ly + 12)],
-            colour.filled(),
-        ))
-        .map_err(e)?;
-        labels.push(label(text.to_string(), (lx + 18, ly), Anchor::Left));
-    }
+    labels.extend(chart::legend(root, &legend, TOP as i32 + 12)?);
     Ok(labels)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ticks_are_round_and_inside() {
-        assert_eq!(
-            ticks(0.0, 600.0),
-            vec![0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0]
-        );
-        let t = ticks(137.0, 391.0);
-        assert_eq!(t.first(), Some(&150.0));
-        assert_eq!(t.last(), Some(&350.0));
-    }
 }
