@@ -447,6 +447,8 @@ fn a_killed_campaign_resumes_from_its_journal() {
             fuzz_count,
             unit_operands: 10_000,
             timeout_cycles: rtcosim::design::DEFAULT_TIMEOUT_CYCLES,
+            corpus: None,
+            corpus: None,
         },
         mutants: vec![1, 2],
         rtl_hash: list.rtl_hash.clone(),
@@ -700,6 +702,7 @@ fn the_judges_scenes_agree_with_golden_on_both_processors() {
             fuzz_count: 4,
             unit_operands: 0,
             timeout_cycles: processor.row().default_timeout_cycles(),
+            corpus: None,
         };
         let options = CosimOptions::default();
         let mut dut = Design::new(processor, Method::Exact, Method::Exact)

@@ -38,6 +38,12 @@ pub struct MutateArgs {
     /// after its edge cases, for a mutant a float unit may carry.
     #[arg(long, value_name = "N", default_value_t = 10_000)]
     pub unit_operands: u64,
+    /// Judge with the scene files of DIR (a guided campaign's corpus,
+    /// `fuzz --corpus`, or its --minimize-into copy) in the place of the
+    /// directed scenes of rtl/mutate/scenes/: each whole at its own size,
+    /// with the exact methods (a file equal to a builtin check is left out).
+    #[arg(long, value_name = "DIR")]
+    pub corpus: Option<PathBuf>,
     #[command(flatten)]
     pub timeout: TimeoutArgs,
     /// Ask Yosys (rtl/mutate/mutants.sh equiv) whether each survivor's
@@ -126,8 +132,13 @@ pub fn run(args: MutateArgs) -> Result<bool> {
         fuzz_count: args.fuzz,
         unit_operands: args.unit_operands,
         timeout_cycles: args.timeout.cycles(args.processor),
+        corpus: None,
     };
-    let judge = Judge::new(args.processor, spec)?;
+    let judge = match &args.corpus {
+        Some(dir) => Judge::with_corpus(args.processor, spec, &mutation::Corpus::load(dir)?)?,
+        None => Judge::new(args.processor, spec)?,
+    };
+    let spec = judge.spec;
     let campaign = Campaign {
         processor: args.processor,
         judge: spec,
@@ -180,12 +191,13 @@ pub fn run(args: MutateArgs) -> Result<bool> {
     );
     writeln!(
         out,
-        "judge: {units}every builtin scene at {}x{}, the {} directed scenes of rtl/mutate/scenes/, and the {} of {} \
+        "judge: {units}every builtin scene at {}x{}, the {} directed scenes of {}, and the {} of {} \
          fuzz scenes of seed {} that load: {} {} checks, {} pixels",
         spec.width,
         spec.height,
-        mutation::directed_checks(),
-        judge.scenes() - golden::scene::Scene::builtin_names().len() - mutation::directed_checks(),
+        judge.directed,
+        judge.directed_from,
+        judge.scenes() - golden::scene::Scene::builtin_names().len() - judge.directed,
         spec.fuzz_count,
         spec.fuzz_seed,
         judge.checks.len(),

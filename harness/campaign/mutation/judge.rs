@@ -135,12 +135,6 @@ pub const DIRECTED: &[Directed] = &[
     directed!("pitch_subnormal", None, None),
 ];
 
-/// The judge's directed-scene checks: every file of [`DIRECTED`] as
-/// written, and the framed ones again.
-pub fn directed_checks() -> usize {
-    DIRECTED.len() + DIRECTED.iter().filter(|d| d.framed_as.is_some()).count()
-}
-
 /// What the judge is made of: every float unit's edge cases and
 /// `unit_operands` seeded random operands (seed `fuzz_seed`), every builtin
 /// scene at `size`, then the accepted scenes among `fuzz_count` fuzz scenes
@@ -153,6 +147,62 @@ pub struct JudgeSpec {
     pub fuzz_count: u64,
     pub unit_operands: u64,
     pub timeout_cycles: u64,
+    /// The hash of the [`Corpus`] that takes the directed scenes' place,
+    /// if one does ([`Judge::with_corpus`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corpus: Option<u64>,
+}
+
+/// A folder of scene files (a guided campaign's corpus, `fuzz --corpus`)
+/// that takes the place of the written directed scenes in a judge: each
+/// file judged whole at its own size, with the exact methods, in the order
+/// of their names; a file equal to a builtin check is left out.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Corpus {
+    /// The folder, for the judge's description.
+    pub dir: std::path::PathBuf,
+    /// (file name, text), sorted by name.
+    pub files: Vec<(String, String)>,
+    /// FNV-1a 64 of the names and texts: what the campaign records.
+    pub hash: u64,
+}
+
+impl Corpus {
+    /// Every `*.toml` of `dir`.
+    pub fn load(dir: &std::path::Path) -> Result<Corpus, JudgeError> {
+        let fail = |message: String| JudgeError {
+            what: format!("corpus {}", dir.display()),
+            message,
+        };
+        let mut files = Vec::new();
+        for entry in std::fs::read_dir(dir).map_err(|e| fail(e.to_string()))? {
+            let path = entry.map_err(|e| fail(e.to_string()))?.path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                let text = std::fs::read_to_string(&path)
+                    .map_err(|e| fail(format!("{}: {e}", path.display())))?;
+                let name = path
+                    .file_name()
+                    .map_or(String::new(), |n| n.to_string_lossy().into());
+                files.push((name, text));
+            }
+        }
+        if files.is_empty() {
+            return Err(fail("no scene files (*.toml) in it".into()));
+        }
+        files.sort();
+        let mut h = fnv::FnvHasher::default();
+        for (name, text) in &files {
+            std::hash::Hasher::write(&mut h, name.as_bytes());
+            std::hash::Hasher::write(&mut h, &[0]);
+            std::hash::Hasher::write(&mut h, text.as_bytes());
+            std::hash::Hasher::write(&mut h, &[0]);
+        }
+        Ok(Corpus {
+            dir: dir.to_path_buf(),
+            files,
+            hash: std::hash::Hasher::finish(&h),
+        })
+    }
 }
 
 /// The fixed list of checks every mutant of `processor` faces, in order.
@@ -161,6 +211,10 @@ pub struct Judge {
     pub processor: ProcessorKind,
     pub spec: JudgeSpec,
     pub checks: Vec<Check>,
+    /// The directed checks (or the corpus' scenes in their place), and
+    /// where they come from, in words.
+    pub directed: usize,
+    pub directed_from: String,
 }
 
 /// A judge that cannot be made (a builtin scene refused at the size).
@@ -176,6 +230,29 @@ impl Judge {
     /// and (the compact processor's; the fast one's driver runs whole
     /// frames) the resets mid-pixel.
     pub fn new(processor: ProcessorKind, spec: JudgeSpec) -> Result<Judge, JudgeError> {
+        Judge::build(processor, spec, None)
+    }
+
+    /// The judge of `processor`'s mutants with the scenes of `corpus` in
+    /// the place of the directed scenes (the proof that a guided campaign
+    /// finds what was written by hand: docs/mutation.md).
+    pub fn with_corpus(
+        processor: ProcessorKind,
+        spec: JudgeSpec,
+        corpus: &Corpus,
+    ) -> Result<Judge, JudgeError> {
+        let spec = JudgeSpec {
+            corpus: Some(corpus.hash),
+            ..spec
+        };
+        Judge::build(processor, spec, Some(corpus))
+    }
+
+    fn build(
+        processor: ProcessorKind,
+        spec: JudgeSpec,
+        corpus: Option<&Corpus>,
+    ) -> Result<Judge, JudgeError> {
         let exact = |scene: &Scene, what: &str| {
             with_methods(scene, Method::Exact, Method::Exact, what).map_err(|e| JudgeError {
                 what: what.to_string(),
@@ -206,6 +283,8 @@ impl Judge {
                 });
             }
         }
+        let mut builtin_scenes = Vec::new();
+        let mut directed = 0;
         let mut scene_check = |name: String, scene: Scene, window: Window| {
             checks.push(Check {
                 name,
@@ -250,6 +329,7 @@ impl Judge {
                     },
                 });
             }
+            builtin_scenes.push(scene.clone());
             scene_check(what, scene, window);
         }
         // A result stream to hold back, long enough to fill its queue.
@@ -265,10 +345,29 @@ impl Judge {
                 },
             });
         }
+        // The corpus' scenes in the place of the directed ones.
+        for (name, text) in corpus.map_or(&[][..], |c| &c.files[..]) {
+            let what = format!("corpus {name}");
+            let scene = Scene::from_toml(text, &what).map_err(|e| JudgeError {
+                what: what.clone(),
+                message: e.to_string(),
+            })?;
+            let scene = exact(&scene, &what)?;
+            if builtin_scenes.contains(&scene) {
+                continue;
+            }
+            let window = Window::full(&scene);
+            directed += 1;
+            scene_check(format!("{what} {}", window.describe()), scene, window);
+        }
         // Every file as written, then the framed ones framed.
-        let as_written = DIRECTED.iter().map(|d| (d, None));
+        let as_written = DIRECTED
+            .iter()
+            .filter(|_| corpus.is_none())
+            .map(|d| (d, None));
         let framed = DIRECTED
             .iter()
+            .filter(|_| corpus.is_none())
             .filter_map(|d| d.framed_as.map(|w| (d, Some(w))));
         for (d, framed_as) in as_written.chain(framed) {
             let what = match framed_as {
@@ -296,6 +395,7 @@ impl Judge {
                     what: what.clone(),
                     message: e.to_string(),
                 })?;
+            directed += 1;
             scene_check(format!("{what} {}", window.describe()), scene, window);
         }
         for index in 0..spec.fuzz_count {
@@ -317,6 +417,10 @@ impl Judge {
             processor,
             spec,
             checks,
+            directed,
+            directed_from: corpus.map_or("rtl/mutate/scenes/".to_string(), |c| {
+                format!("corpus {}", c.dir.display())
+            }),
         })
     }
 

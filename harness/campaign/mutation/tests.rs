@@ -147,3 +147,64 @@ fn a_list_out_of_order_or_without_its_hash_is_refused() {
     .unwrap_err();
     assert!(e.message.contains("not a `mutate` command"), "{e}");
 }
+
+/// A corpus takes the directed scenes' place: its scenes are judged whole,
+/// one equal to a builtin check is left out, the spec records the corpus'
+/// hash (which any change of a file changes), and a folder without scene
+/// files is refused by name.
+#[test]
+fn a_corpus_judge_replaces_the_directed_scenes() {
+    use golden::scene::Scene;
+    let spec = JudgeSpec {
+        width: 16,
+        height: 12,
+        fuzz_seed: 1,
+        fuzz_count: 0,
+        unit_operands: 0,
+        timeout_cycles: crate::design::DEFAULT_TIMEOUT_CYCLES,
+        corpus: None,
+    };
+    let written = Judge::new(ProcessorKind::Compact, spec).expect("the judge");
+    assert_eq!(
+        written.directed,
+        DIRECTED.len() + DIRECTED.iter().filter(|d| d.framed_as.is_some()).count()
+    );
+    let dir = std::env::temp_dir().join(format!("rtcosim-corpus-judge-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    let refused = Corpus::load(&dir).expect_err("empty").to_string();
+    assert!(refused.contains("no scene files"), "{refused}");
+    let builtin = Scene::builtin("reference")
+        .expect("builtin")
+        .resized(16, 12, "t")
+        .expect("16x12");
+    let own = Scene::builtin("mirror")
+        .expect("builtin")
+        .resized(5, 3, "t")
+        .expect("5x3");
+    std::fs::write(dir.join("builtin-reference.toml"), builtin.to_toml()).expect("write");
+    std::fs::write(dir.join("mine.toml"), own.to_toml()).expect("write");
+    std::fs::write(dir.join("notes.txt"), "not a scene").expect("write");
+    let corpus = Corpus::load(&dir).expect("loads");
+    assert_eq!(corpus.files.len(), 2);
+    let judge = Judge::with_corpus(ProcessorKind::Compact, spec, &corpus).expect("the judge");
+    assert_eq!(judge.spec.corpus, Some(corpus.hash));
+    assert_eq!(judge.directed, 1);
+    let names: Vec<&str> = judge.checks.iter().map(|c| c.name.as_str()).collect();
+    assert!(
+        names.iter().any(|n| n.starts_with("corpus mine.toml")),
+        "{names:?}"
+    );
+    assert!(
+        !names.iter().any(|n| n.starts_with("directed ")),
+        "{names:?}"
+    );
+    assert!(
+        !names.iter().any(|n| n.starts_with("corpus builtin-")),
+        "{names:?}"
+    );
+    assert_eq!(judge.scenes(), written.scenes() - written.directed + 1);
+    std::fs::write(dir.join("mine.toml"), own.to_toml() + "\n").expect("write");
+    assert_ne!(Corpus::load(&dir).expect("loads").hash, corpus.hash);
+    let _ = std::fs::remove_dir_all(&dir);
+}
