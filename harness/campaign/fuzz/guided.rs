@@ -308,7 +308,26 @@ struct Candidate {
 }
 
 /// Candidate `index`: a fresh scene, or a corpus scene mutated.
-fn candidate(options: &GuidedOptions, corpus: &[Entry], index: u64) -> Candidate {
+/// Each corpus scene's rarity: the sum, over the points it reaches, of one
+/// over the number of corpus scenes that reach the point. A scene alone in
+/// reaching something weighs at least 1; the parent of a third of the
+/// mutants is drawn in proportion to it (the rare-branch focus of
+/// FairFuzz, on golden's points), so that what one scene alone reaches is
+/// mutated further.
+fn rarity(corpus: &[Entry]) -> Vec<f64> {
+    let mut reach: std::collections::HashMap<Point, u32> = std::collections::HashMap::new();
+    for e in corpus {
+        for p in e.coverage.points() {
+            *reach.entry(p).or_default() += 1;
+        }
+    }
+    corpus
+        .iter()
+        .map(|e| e.coverage.points().map(|p| 1.0 / f64::from(reach[&p])).sum())
+        .collect()
+}
+
+fn candidate(options: &GuidedOptions, corpus: &[Entry], rarity: &[f64], index: u64) -> Candidate {
     // A stream of its own, apart from generate's streams of the same seed.
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed ^ 0x6775_6964_6564);
     rng.set_stream(index);
@@ -322,14 +341,18 @@ fn candidate(options: &GuidedOptions, corpus: &[Entry], index: u64) -> Candidate
             refused: Vec::new(),
         };
     }
-    // Half the time a recent find: what was just kept is the likeliest
-    // to lead further.
+    // A third of the time a recent find: what was just kept is the
+    // likeliest to lead further; a third a scene by its rarity; a third
+    // any scene.
     let n = corpus.len();
     let recent = n.min(16);
-    let i = if rng.random_bool(0.5) {
-        n - 1 - rng.random_range(0..recent)
-    } else {
-        rng.random_range(0..n)
+    let i = match rng.random_range(0..3) {
+        0 => n - 1 - rng.random_range(0..recent),
+        1 => match rand::distr::weighted::WeightedIndex::new(rarity) {
+            Ok(w) => rng.sample(w),
+            Err(_) => rng.random_range(0..n),
+        },
+        _ => rng.random_range(0..n),
     };
     let parent = &corpus[i];
     // Crossover material: three corpus scenes and a fresh one, which
@@ -459,8 +482,9 @@ pub fn run(
     let mut next = 0;
     while next < options.count {
         let end = (next + BATCH).min(options.count);
+        let rarity = rarity(&corpus);
         let batch: Vec<Candidate> = (next..end)
-            .map(|i| candidate(options, &corpus, i))
+            .map(|i| candidate(options, &corpus, &rarity, i))
             .collect();
         let outcomes: Vec<Outcome> = batch
             .par_iter()
