@@ -323,7 +323,12 @@ fn rarity(corpus: &[Entry]) -> Vec<f64> {
     }
     corpus
         .iter()
-        .map(|e| e.coverage.points().map(|p| 1.0 / f64::from(reach[&p])).sum())
+        .map(|e| {
+            e.coverage
+                .points()
+                .map(|p| 1.0 / f64::from(reach[&p]))
+                .sum()
+        })
         .collect()
 }
 
