@@ -12,7 +12,10 @@
 //! 1, below 1 where total internal reflection begins, up to 4). Magnitudes span the whole
 //! accepted range: a scene has a scale anywhere from 2^-58 to 2^58 (most
 //! often a familiar one), and any value may instead sit exactly on a limit
-//! of `golden::scene` or just past it. A scene with a value past a limit is
+//! of `golden::scene` or just past it (a sphere's radius is also at least
+//! `MIN_RADIUS_OF_EXTENT` of the scene's extent: a radius drawn on
+//! MIN_RADIUS sits on the higher of the two bounds, just below it when
+//! drawn just below, and a smaller one is lifted to it). A scene with a value past a limit is
 //! marked [`Generated::in_limits`] false: it should be refused, and the
 //! others mostly accepted. Nothing is filtered: what comes out is what the
 //! campaign runs.
