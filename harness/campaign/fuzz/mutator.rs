@@ -327,7 +327,42 @@ fn change_objects(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
     };
     let n = objects.len();
     let i = rng.random_range(0..n);
-    match rng.random_range(0..3) {
+    match rng.random_range(0..4) {
+        3 => {
+            // A material whose terms the controller branches on, all at
+            // once (one number at a time seldom gets there): black, a pure
+            // mirror, pure glass (a sphere's), matte.
+            let Value::Table(object) = &mut objects[i] else {
+                return None;
+            };
+            let (name, terms): (&str, &[(&str, f64)]) = match rng.random_range(0..4) {
+                0 => (
+                    "black",
+                    &[("diffuse", 0.0), ("specular", 0.0), ("reflection", 0.0)],
+                ),
+                1 => (
+                    "a pure mirror",
+                    &[("diffuse", 0.0), ("specular", 0.0), ("reflection", 1.0)],
+                ),
+                2 if key == "sphere" => (
+                    "pure glass",
+                    &[
+                        ("diffuse", 0.0),
+                        ("specular", 0.0),
+                        ("reflection", 0.0),
+                        ("transmission", 1.0),
+                    ],
+                ),
+                _ => (
+                    "matte",
+                    &[("diffuse", 1.0), ("specular", 0.0), ("reflection", 0.0)],
+                ),
+            };
+            for &(term, x) in terms {
+                object.insert(term.into(), Value::Float(x));
+            }
+            Some(format!("{key}[{i}] made {name}"))
+        }
         0 => {
             let copy = objects[i].clone();
             let at = rng.random_range(0..=n);
@@ -523,5 +558,30 @@ mod tests {
             .iter()
             .filter(|(t, _)| *t != original)
             .all(|(_, c)| !c.is_empty()));
+        // Material presets occur, and set their terms (when the preset
+        // is the last change made).
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut black = 0;
+        for _ in 0..2000 {
+            let mut t = base.clone();
+            let changes = mutate(&mut t, &[&donor], &mut rng);
+            let Some(last) = changes.last().filter(|c| c.ends_with(" made black")) else {
+                continue;
+            };
+            black += 1;
+            let (key, index) = last.split_once('[').expect("an object");
+            let i: usize = index
+                .split(']')
+                .next()
+                .and_then(|n| n.parse().ok())
+                .expect("index");
+            let object = t[key].as_array().expect("objects")[i]
+                .as_table()
+                .expect("object");
+            for term in ["diffuse", "specular", "reflection"] {
+                assert_eq!(object[term].as_float(), Some(0.0), "{last}");
+            }
+        }
+        assert!(black > 0, "no black material in 2000 mutants");
     }
 }
