@@ -301,8 +301,7 @@ fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
         let path = dir.join(GUIDED_REPORT);
         let json = serde_json::to_string_pretty(&report)?;
         std::fs::write(&path, json).with_context(|| format!("writing {}", path.display()))?;
-        let (svg, png) = (dir.join(COVERAGE_CHART_SVG), dir.join(COVERAGE_CHART_PNG));
-        chart::write(&[chart::Run::of(&report)], &svg, &png)?;
+        let (svg, png) = write_chart(dir, &[chart::Run::of(&report)])?;
         writeln!(
             out,
             "wrote {}, {} and {}",
@@ -325,6 +324,13 @@ fn run_guided(args: &FuzzArgs, corpus: &Path) -> Result<bool> {
 pub const COVERAGE_CHART_SVG: &str = "coverage.svg";
 pub const COVERAGE_CHART_PNG: &str = "coverage.png";
 
+/// The chart of `runs` into `dir`; returns its two files.
+fn write_chart(dir: &Path, runs: &[chart::Run]) -> Result<(PathBuf, PathBuf)> {
+    let (svg, png) = (dir.join(COVERAGE_CHART_SVG), dir.join(COVERAGE_CHART_PNG));
+    chart::write(runs, &svg, &png)?;
+    Ok((svg, png))
+}
+
 /// `fuzz --chart`: the curves of finished campaigns in one chart.
 fn draw_chart(args: &FuzzArgs) -> Result<bool> {
     let Some(dir) = &args.out else {
@@ -336,8 +342,7 @@ fn draw_chart(args: &FuzzArgs) -> Result<bool> {
         .map(|p| chart::Run::read(p))
         .collect::<Result<Vec<_>, _>>()?;
     std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
-    let (svg, png) = (dir.join(COVERAGE_CHART_SVG), dir.join(COVERAGE_CHART_PNG));
-    chart::write(&runs, &svg, &png)?;
+    let (svg, png) = write_chart(dir, &runs)?;
     for r in &runs {
         if let Some(&(candidates, points, transitions)) = r.curve.last() {
             println!(

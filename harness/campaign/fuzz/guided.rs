@@ -307,7 +307,6 @@ struct Candidate {
     refused: Vec<String>,
 }
 
-/// Candidate `index`: a fresh scene, or a corpus scene mutated.
 /// Each corpus scene's rarity: the sum, over the points it reaches, of one
 /// over the number of corpus scenes that reach the point. A scene alone in
 /// reaching something weighs at least 1; the parent of a third of the
@@ -332,6 +331,7 @@ fn rarity(corpus: &[Entry]) -> Vec<f64> {
         .collect()
 }
 
+/// Candidate `index`: a fresh scene, or a corpus scene mutated.
 fn candidate(options: &GuidedOptions, corpus: &[Entry], rarity: &[f64], index: u64) -> Candidate {
     // A stream of its own, apart from generate's streams of the same seed.
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed ^ 0x6775_6964_6564);
@@ -534,20 +534,14 @@ pub fn run(
                         total.merge(&coverage);
                         // Kept as the smallest centred crop that reaches
                         // what is new (shrink.rs), if smaller.
-                        let size = |t: &str| {
-                            Scene::from_toml(t, "kept")
-                                .map(|s| format!("{}x{}", s.camera.width, s.camera.height))
-                                .unwrap_or_default()
-                        };
                         let (text, coverage, pixels, cropped) =
                             match super::shrink::shrink(&c.text, &firsts) {
-                                Some((t, cov, px)) => {
+                                Some(k) => {
                                     let note = format!(
-                                        "\n# cropped from {} to {}: the pixels that reach it",
-                                        size(&c.text),
-                                        size(&t)
+                                        "\n# cropped from {}x{} to {}x{}: the pixels that reach it",
+                                        k.from.0, k.from.1, k.to.0, k.to.1
                                     );
-                                    (t, cov, px, note)
+                                    (k.text, k.coverage, k.pixels, note)
                                 }
                                 None => (c.text.clone(), coverage, pixels, String::new()),
                             };

@@ -36,10 +36,23 @@ fn crop_of(scene: &Scene, px: u32, py: u32) -> (u32, u32) {
     (crop_side(w, px), crop_side(h, h - 1 - py))
 }
 
-/// `text` with its image cropped so that it reaches every one of `points`,
-/// its coverage and its pixels; `None` if no crop smaller than the image
-/// does (or the text does not load).
-pub fn shrink(text: &str, points: &[Point]) -> Option<(String, Coverage, u64)> {
+/// A scene cropped by [`shrink`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cropped {
+    /// The cropped scene file.
+    pub text: String,
+    /// What it reaches, and its pixels.
+    pub coverage: Coverage,
+    pub pixels: u64,
+    /// The image's (width, height) before and after.
+    pub from: (u32, u32),
+    pub to: (u32, u32),
+}
+
+/// `text` with its image cropped so that it reaches every one of `points`;
+/// `None` if no crop smaller than the image does (or the text does not
+/// load).
+pub fn shrink(text: &str, points: &[Point]) -> Option<Cropped> {
     let scene = Scene::from_toml(text, "kept scene").ok()?;
     let processor = Processor::new(&scene);
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -74,7 +87,13 @@ pub fn shrink(text: &str, points: &[Point]) -> Option<(String, Coverage, u64)> {
     points
         .iter()
         .all(|&p| coverage.contains(p))
-        .then(|| (cropped, coverage, small.pixel_count()))
+        .then(|| Cropped {
+            text: cropped,
+            pixels: small.pixel_count(),
+            coverage,
+            from: (w, h),
+            to: (cw, ch),
+        })
 }
 
 #[cfg(test)]
@@ -117,11 +136,15 @@ mod tests {
             processor.render_pixel_covered(x, y, &mut all);
         }
         let points: Vec<Point> = centre.points().collect();
-        let (cropped, coverage, pixels) = shrink(&text, &points).expect("shrinks");
-        let small = Scene::from_toml(&cropped, "t").expect("loads");
-        assert!(pixels < 192, "{pixels}");
-        assert_eq!(pixels, small.pixel_count());
-        assert!(points.iter().all(|&p| coverage.contains(p)));
+        let k = shrink(&text, &points).expect("shrinks");
+        let small = Scene::from_toml(&k.text, "t").expect("loads");
+        assert!(k.pixels < 192, "{}", k.pixels);
+        assert_eq!(k.pixels, small.pixel_count());
+        assert_eq!(
+            (k.from, k.to),
+            ((16, 12), (small.camera.width, small.camera.height))
+        );
+        assert!(points.iter().all(|&p| k.coverage.contains(p)));
         // The crop's pixels are the middle of the frame's: the same rays,
         // so the same colours.
         let (dx, dy) = (
