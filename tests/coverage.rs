@@ -230,7 +230,7 @@ fn cover_scenes() -> Vec<(String, golden::scene::Scene, Vec<Transition>)> {
 fn the_cover_scenes_agree_with_golden_and_name_possible_transitions() {
     let (_, pairs) = table();
     let scenes = cover_scenes();
-    assert_eq!(scenes.len(), 4);
+    assert_eq!(scenes.len(), 8);
     for (file, scene, takes) in &scenes {
         for t in takes {
             assert!(
@@ -348,6 +348,8 @@ mod built {
     use super::*;
     use golden::window::Window;
     use rtcosim::check::cosim::{self, CosimOptions};
+    use rtcosim::design::processor::ProcessorKind;
+    use rtcosim::design::Design;
     use rtcosim::output::coverage::{self, Kind};
 
     /// Coverage goes to one directory per process: one test at a time.

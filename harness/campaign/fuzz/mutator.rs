@@ -327,7 +327,15 @@ fn change_objects(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
     };
     let n = objects.len();
     let i = rng.random_range(0..n);
-    match rng.random_range(0..4) {
+    match rng.random_range(0..5) {
+        4 => {
+            // No object of this kind at all: a search without planes ends
+            // on its last sphere (one at a time, a corpus scene seldom
+            // loses them all).
+            let removed = objects.len();
+            objects.clear();
+            Some(format!("every {key} removed ({removed})"))
+        }
         3 => {
             // A material whose terms the controller branches on, all at
             // once (one number at a time seldom gets there): black, a pure
@@ -583,5 +591,20 @@ mod tests {
             }
         }
         assert!(black > 0, "no black material in 2000 mutants");
+        // A whole kind of object goes, and the rest still loads.
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let bare = (0..2000)
+            .filter_map(|_| {
+                let mut t = base.clone();
+                let changes = mutate(&mut t, &[&donor], &mut rng);
+                changes
+                    .iter()
+                    .any(|c| c.starts_with("every plane removed"))
+                    .then_some(t)
+            })
+            .filter(|t| t["plane"].as_array().is_some_and(|a| a.is_empty()))
+            .filter_map(|t| golden::scene::Scene::from_toml(&toml::to_string(&t).ok()?, "m").ok())
+            .count();
+        assert!(bare > 0, "no scene without planes loaded in 2000 mutants");
     }
 }

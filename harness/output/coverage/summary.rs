@@ -606,8 +606,8 @@ mod tests {
     fn the_committed_list_reads_and_a_bad_line_is_named() {
         let list = unreachable().expect("the lists read");
         let of = |c: &str| list.iter().filter(|a| a.controller == c).count();
-        assert_eq!(of("pp_ctrl"), 50);
-        assert_eq!(of("fast_ctrl"), 53);
+        assert_eq!(of("pp_ctrl"), 57);
+        assert_eq!(of("fast_ctrl"), 60);
         assert_eq!(
             parse_unreachable("# c\nA B U1\nA B\n", "pp_ctrl"),
             Err((3, "`A B` is not FROM TO GROUP".to_string()))
