@@ -101,6 +101,39 @@ fn listed_hash(list: &str) -> String {
         .to_string()
 }
 
+/// The fast campaign's finished shards (`rtl/mutate/campaign/fast_pp/`,
+/// docs/mutation.md "What stands") judged today's fast list, each under
+/// the name `rtcosim merge` gives its shard: a shard of another list
+/// would merge verdicts on other mutants.
+#[test]
+fn the_committed_fast_shards_judged_todays_list() {
+    let dir = root().join("rtl/mutate/campaign/fast_pp");
+    let listed = listed_hash(FAST_LIST);
+    let mut shards = 0;
+    for entry in std::fs::read_dir(&dir).expect("rtl/mutate/campaign/fast_pp") {
+        let path = entry.expect("an entry").path();
+        let text = std::fs::read_to_string(&path).expect("reading a shard");
+        let v: serde_json::Value = serde_json::from_str(&text).expect("a shard's JSON");
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        assert_eq!(v["tool"], "mutate", "{name}");
+        assert_eq!(v["config"]["processor"], "fast", "{name}");
+        assert_eq!(
+            v["config"]["rtl_hash"], listed,
+            "{name} judged another list than {FAST_LIST}: judge that shard again"
+        );
+        let shard = &v["shard"];
+        assert_eq!(
+            name,
+            format!("mutate-{}-of-{}.shard.json", shard["index"], shard["count"]),
+        );
+        shards += 1;
+    }
+    assert!(shards > 0, "no shard in {}", dir.display());
+}
+
 /// The lists listed on the compact processor's sources: its own and the
 /// smoke test's.
 fn compact_lists() -> [&'static str; 2] {
