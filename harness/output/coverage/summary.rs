@@ -607,7 +607,7 @@ mod tests {
         let list = unreachable().expect("the lists read");
         let of = |c: &str| list.iter().filter(|a| a.controller == c).count();
         assert_eq!(of("pp_ctrl"), 57);
-        assert_eq!(of("fast_ctrl"), 60);
+        assert_eq!(of("fast_ctrl"), 63);
         assert_eq!(
             parse_unreachable("# c\nA B U1\nA B\n", "pp_ctrl"),
             Err((3, "`A B` is not FROM TO GROUP".to_string()))
