@@ -334,8 +334,8 @@ mod tests {
     /// The refraction states are the ids from RF_NSUB up, and only these
     /// (a controller built without refraction decodes no id from there up:
     /// ctrl_flow.vh's decoded_st), and every id is below 128 (bits 7 and up
-    /// of a state stay 0, so the fast controller's decodes of a 7-bit id
-    /// stay within 4 LUT levels: docs/fast.md).
+    /// of a state stay 0: fast_ctrl.v carries a state id in 7 bits, its
+    /// decodes within 4 LUT levels: docs/fast.md).
     #[test]
     fn refraction_states_are_the_ids_from_rf_nsub_up_and_every_id_fits_7_bits() {
         for (name, id) in STATES {
