@@ -263,7 +263,7 @@ fn predicted(scene: &golden::scene::Scene) -> std::collections::BTreeSet<Transit
                 let name = |s: isa::State| isa::state_name(s.0).expect("a named state").to_string();
                 Some((name(a), name(b)))
             }
-            golden::micro::cover::Point::Value(..) => None,
+            golden::micro::cover::Point::Value(..) | golden::micro::cover::Point::Near(..) => None,
         })
         .collect()
 }

@@ -103,6 +103,12 @@ impl Alu {
         [fp::itof(px as i32), fp::itof(-(py as i32)), fp::itof(0)]
     }
 
+    /// F as it stands, written or not (for coverage: [`super::core::near`]).
+    #[inline(always)]
+    pub(crate) fn f_lanes(&self) -> Vec3f {
+        self.f
+    }
+
     #[inline(always)]
     fn f(&self, at: &Location<'_>) -> Vec3f {
         if !self.f_valid {

@@ -129,11 +129,41 @@ pub struct Core<T> {
 }
 
 /// One issued instruction: the state it issued from and the cycles it took
-/// (more than 1: the controller stays in that state until out_valid).
+/// (more than 1: the controller stays in that state until out_valid), and
+/// how near its lane x came to a sign test's threshold ([`Step::near`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Step {
     pub state: State,
     pub cycles: u32,
+    /// For a sum (ADD, SUB, ISECT4's lane x): how many bits of its larger
+    /// addend cancelled, in [`NEAR_BITS`] steps (0: fewer than
+    /// `NEAR_BITS`, up to [`NEAR_LEVELS`]; an exact 0 is the last level).
+    /// The controller branches on the sign of such sums (a discriminant, a
+    /// distance, a cosine), so a sum that nearly cancels is a step towards
+    /// the branch's other side; for any other instruction 0.
+    pub near: u8,
+}
+
+/// The cancelled bits of one level of [`Step::near`].
+pub const NEAR_BITS: i32 = 8;
+/// The levels of [`Step::near`]: 8, 16 and 24 bits or more (or 0 exactly).
+pub const NEAR_LEVELS: u8 = 3;
+
+/// [`Step::near`] of the sum `y` of addends `p` and `q`: 0 unless all three
+/// are finite and the sum is at least [`NEAR_BITS`] binades below the
+/// larger addend.
+pub fn near(p: f32, q: f32, y: f32) -> u8 {
+    let big = p.abs().max(q.abs());
+    if !(p.is_finite() && q.is_finite() && y.is_finite()) || big == 0.0 {
+        return 0;
+    }
+    if y == 0.0 {
+        return NEAR_LEVELS;
+    }
+    // Binades as the exponents count them (subnormals too): exact in f64.
+    let binade = |v: f32| f64::from(v.abs()).log2().floor() as i32;
+    let cancelled = binade(big) - binade(y);
+    (cancelled / NEAR_BITS).clamp(0, i32::from(NEAR_LEVELS)) as u8
 }
 
 /// Whether register address `a` belongs to the scene (read-only).
@@ -309,6 +339,7 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
             steps.push(Step {
                 state,
                 cycles: cycles as u32,
+                near: 0,
             });
         }
     }
@@ -333,7 +364,19 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
         let av = self.read(a, mask, at);
         let bv = self.read(b, need_b, at);
         let y = Alu::lanewise(code, av, bv);
-        self.retire(state, code, dst, mask, y, at)
+        let written = self.retire(state, code, dst, mask, y, at);
+        if self.steps.is_some() && (code == op::ADD || code == op::SUB) && mask.has(0) {
+            self.mark_near(near(av[0], bv[route[0]], y[0]));
+        }
+        written
+    }
+
+    /// Sets the last recorded step's [`Step::near`].
+    #[inline(always)]
+    fn mark_near(&mut self, level: u8) {
+        if let Some(step) = self.steps.as_mut().and_then(|s| s.last_mut()) {
+            step.near = level;
+        }
     }
 
     // -----------------------------------------------------------------------
@@ -516,8 +559,13 @@ impl<T: FnMut(&TraceEvent, &'static Location<'static>)> Core<T> {
     pub fn isect4(&mut self, st: State, y: Reg, a: Reg) -> Written {
         let at = Location::caller();
         let av = self.read(a, Lanes::X, at);
+        let f_y = self.alu.f_lanes()[1];
         let v = self.alu.isect4(av[0], at);
-        self.retire(st, op::ISECT4, y, Lanes::XYZ, v, at)
+        let written = self.retire(st, op::ISECT4, y, Lanes::XYZ, v, at);
+        if self.steps.is_some() {
+            self.mark_near(near(av[0], f_y, v[0]));
+        }
+        written
     }
 
     // -----------------------------------------------------------------------

@@ -19,10 +19,19 @@
 //!   written values, and the float units' edge cases are their operands'
 //!   kinds, so a written -0 or subnormal where none was is worth keeping.
 //!
+//! - **A near miss** `(from, to, level)`: the transition `from -> to` taken
+//!   by an instruction whose sum in lane x cancelled at least 8, 16 or 24
+//!   bits of its larger addend ([`Step::near`]). The controller branches on
+//!   the signs of such sums, and which side a sum falls on is decided by
+//!   its last bits when it nearly cancels: a scene that brings a branch's
+//!   sum nearer to 0 is a step towards its other side (the needles a
+//!   random draw misses, such as a discriminant that rounds below 0),
+//!   which the transitions alone do not reward until it is there.
+//!
 //! A [`Coverage`] is a dense bit set over every point a 7-bit state id can
 //! name: cheap to fill for every pixel, to merge and to compare.
 
-use super::core::Step;
+use super::core::{Step, NEAR_BITS, NEAR_LEVELS};
 use super::isa::{self, State};
 use crate::trace::TraceEvent;
 use std::fmt;
@@ -34,7 +43,8 @@ const LANES: usize = 3;
 const CLASSES: usize = 16;
 const TRANSITION_BITS: usize = STATES * STATES;
 const VALUE_BITS: usize = STATES * LANES * CLASSES;
-const WORDS: usize = (TRANSITION_BITS + VALUE_BITS).div_ceil(64);
+const NEAR_POINT_BITS: usize = TRANSITION_BITS * NEAR_LEVELS as usize;
+const WORDS: usize = (TRANSITION_BITS + VALUE_BITS + NEAR_POINT_BITS).div_ceil(64);
 
 /// The kind of a written f32: its sign and whether it is zero, subnormal,
 /// normal, infinite or NaN (NaN without a sign).
@@ -114,6 +124,9 @@ pub enum Point {
     Transition(State, State),
     /// A write in state `.0` put a value of class `.2` in lane `.1` (0 = x).
     Value(State, u8, ValueClass),
+    /// The controller went from state `.0` to state `.1` after a sum in
+    /// lane x that cancelled at least `.2` x 8 bits (1 ..= 3).
+    Near(State, State, u8),
 }
 
 impl Point {
@@ -125,6 +138,13 @@ impl Point {
                     + (usize::from(s.0) * LANES + usize::from(lane)) * CLASSES
                     + class.index()
             }
+            Point::Near(a, b, level) => {
+                TRANSITION_BITS
+                    + VALUE_BITS
+                    + (usize::from(level) - 1) * TRANSITION_BITS
+                    + usize::from(a.0) * STATES
+                    + usize::from(b.0)
+            }
         }
     }
 
@@ -134,6 +154,20 @@ impl Point {
             return Some(Point::Transition(state(bit / STATES), state(bit % STATES)));
         }
         let v = bit - TRANSITION_BITS;
+        if v >= VALUE_BITS {
+            let n = v - VALUE_BITS;
+            let level = n / TRANSITION_BITS + 1;
+            if level > usize::from(NEAR_LEVELS) {
+                return None;
+            }
+            let t = n % TRANSITION_BITS;
+            let state = |i: usize| State(i as u16);
+            return Some(Point::Near(
+                state(t / STATES),
+                state(t % STATES),
+                level as u8,
+            ));
+        }
         let class = ValueClass::from_index(v % CLASSES)?;
         let slot = v / CLASSES;
         Some(Point::Value(
@@ -160,6 +194,14 @@ impl fmt::Display for Point {
                 state_name(*s),
                 isa::LANE_NAMES[usize::from(*lane)],
                 class.label()
+            ),
+            Point::Near(a, b, level) => write!(
+                f,
+                "{} -> {} near: x cancelled {}{} bits",
+                state_name(*a),
+                state_name(*b),
+                i32::from(*level) * NEAR_BITS,
+                if *level == NEAR_LEVELS { "+" } else { "" }
             ),
         }
     }
@@ -227,7 +269,7 @@ impl Coverage {
     }
 
     /// Every point, in bit order: the transitions by from-state, then the
-    /// value classes by state and lane.
+    /// value classes by state and lane, then the near misses by level.
     pub fn points(&self) -> impl Iterator<Item = Point> + '_ {
         self.bits.iter().enumerate().flat_map(|(w, &word)| {
             (0..64)
@@ -240,14 +282,22 @@ impl Coverage {
     /// ([`super::Processor::render_pixel_covered`]).
     pub fn add_path(&mut self, steps: &[Step]) {
         let mut from = State::IDLE;
+        let mut near = 0;
         for step in steps {
             self.insert(Point::Transition(from, step.state));
+            for level in 1..=near {
+                self.insert(Point::Near(from, step.state, level));
+            }
             if step.cycles > 1 {
                 self.insert(Point::Transition(step.state, step.state));
             }
             from = step.state;
+            near = step.near;
         }
         self.insert(Point::Transition(from, State::PIX_DONE));
+        for level in 1..=near {
+            self.insert(Point::Near(from, State::PIX_DONE, level));
+        }
         self.insert(Point::Transition(State::PIX_DONE, State::IDLE));
     }
 
@@ -307,6 +357,14 @@ mod tests {
                     all.insert(p);
                 }
             }
+            for b in 0..STATES as u16 {
+                for level in 1..=NEAR_LEVELS {
+                    let p = Point::Near(State(a), State(b), level);
+                    assert!(seen.insert(p.bit()));
+                    assert_eq!(Point::of_bit(p.bit()), Some(p));
+                    all.insert(p);
+                }
+            }
         }
         assert!(seen.iter().all(|&b| b < WORDS * 64));
         assert_eq!(all.len(), seen.len());
@@ -315,7 +373,11 @@ mod tests {
 
     #[test]
     fn a_path_runs_from_idle_through_its_states_to_pix_done() {
-        let step = |state, cycles| Step { state, cycles };
+        let step = |state, cycles| Step {
+            state,
+            cycles,
+            near: 0,
+        };
         let mut c = Coverage::new();
         c.add_path(&[
             step(State::PRI_ITOF, 1),
@@ -351,5 +413,62 @@ mod tests {
         assert_eq!(a, b);
         assert_eq!(a.len(), 2);
         assert!(a.contains(q));
+    }
+
+    #[test]
+    fn a_near_miss_marks_its_transition_at_every_level_up_to_its_own() {
+        let mut c = Coverage::new();
+        c.add_path(&[
+            Step {
+                state: State::ISECT_4,
+                cycles: 1,
+                near: 2,
+            },
+            Step {
+                state: State::RF_CSQRT,
+                cycles: 1,
+                near: 3,
+            },
+        ]);
+        let near: Vec<String> = c
+            .points()
+            .filter(|p| matches!(p, Point::Near(..)))
+            .map(|p| p.to_string())
+            .collect();
+        assert_eq!(
+            near,
+            [
+                "ISECT_4 -> RF_CSQRT near: x cancelled 8 bits",
+                "RF_CSQRT -> PIX_DONE near: x cancelled 8 bits",
+                "ISECT_4 -> RF_CSQRT near: x cancelled 16 bits",
+                "RF_CSQRT -> PIX_DONE near: x cancelled 16 bits",
+                "RF_CSQRT -> PIX_DONE near: x cancelled 24+ bits",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_sum_is_near_by_the_binades_it_cancels() {
+        use super::super::core::near;
+        let cases = [
+            (1.0, -0.5, 0),                                   // 1 bit
+            (1.0, -(1.0 - 2f32.powi(-8)), 1),                 // 2^-8: 8 bits
+            (1.0, -(1.0 - 2f32.powi(-7)), 0),                 // 7 bits
+            (16_777_216.0, -16_777_215.0, 3),                 // 24 bits
+            (3.0e5, -(3.0e5 - 0.03125), 2),                   // 2^18 to 2^-5: 23 bits
+            (1.0, -(1.0 - 2f32.powi(-16)), 2),                // 16 bits
+            (2.5, -2.5, 3),                                   // exactly 0
+            (0.0, 0.0, 0),                                    // nothing to cancel
+            (1.0, f32::INFINITY, 0),                          // not finite
+            (f32::MIN_POSITIVE, -f32::MIN_POSITIVE * 0.5, 0), // into the subnormals: 1 bit
+            (
+                f32::MIN_POSITIVE,
+                -f32::MIN_POSITIVE * (1.0 - 2f32.powi(-20)),
+                2,
+            ), // 20 bits, subnormal
+        ];
+        for (p, q, level) in cases {
+            assert_eq!(near(p, q, p + q), level, "{p:e} + {q:e} = {:e}", p + q);
+        }
     }
 }
