@@ -18,7 +18,12 @@
 //! - an object duplicated, removed, swapped with another (the processors
 //!   search objects in file order), or replaced by one of another corpus
 //!   scene (crossover); a value or a key the scene lacks copied from
-//!   another corpus scene at the same place.
+//!   another corpus scene at the same place;
+//! - the whole scene moved along an axis (the eye, the light, every centre
+//!   and the offsets of the planes across it), by 2^8 to 2^16 times its
+//!   smallest radius: the same picture in exact arithmetic, its points now
+//!   placed to a few bits of the radius in f32 (a discriminant that
+//!   rounds below zero, a hit point off its sphere).
 
 use golden::scene::{
     MAX_COORD, MAX_DISTANCE, MAX_EXPOSURE, MAX_IOR, MAX_RADIUS, MIN_DISTANCE, MIN_IOR, MIN_RADIUS,
@@ -227,11 +232,74 @@ fn pick<'a, T>(rng: &mut ChaCha8Rng, items: &'a [T]) -> Option<&'a T> {
 }
 
 fn change(scene: &mut Table, donors: &[&Table], rng: &mut ChaCha8Rng) -> Option<Change> {
-    match rng.random_range(0..10) {
+    match rng.random_range(0..11) {
         0..=5 => change_leaf(scene, rng),
         6 => change_objects(scene, rng),
+        7 => translate(scene, rng),
         _ => crossover(scene, donors, rng),
     }
+}
+
+/// The numbers of the array at `path` (a point: `camera.eye`).
+fn point_mut<'t>(table: &'t mut Table, path: &[&str]) -> Option<&'t mut Vec<Value>> {
+    let path: Vec<Step> = path.iter().map(|k| Step::Key((*k).into())).collect();
+    match get_mut(table, &path)? {
+        Value::Array(a) if a.len() == 3 && a.iter().all(|v| v.as_float().is_some()) => Some(a),
+        _ => None,
+    }
+}
+
+/// `v` plus `by`, as the file can spell it (an f32).
+fn moved(v: &mut Value, by: f64) {
+    if let Some(x) = v.as_float() {
+        *v = Value::Float(f64::from((x + by) as f32));
+    }
+}
+
+/// The whole scene moved by `2^k` times its smallest radius (1 without a
+/// sphere), k in 8..=16, along one axis, either way: the eye, the light,
+/// every sphere's centre and the offset of every plane across that axis.
+fn translate(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
+    let radius = match scene.get("sphere") {
+        Some(Value::Array(spheres)) => spheres
+            .iter()
+            .filter_map(|s| s.get("radius")?.as_float())
+            .map(f64::abs)
+            .filter(|r| *r > 0.0)
+            .fold(f64::INFINITY, f64::min),
+        _ => f64::INFINITY,
+    };
+    let radius = if radius.is_finite() { radius } else { 1.0 };
+    let k = rng.random_range(8..=16i32);
+    let axis = rng.random_range(0..3usize);
+    let by = radius * 2f64.powi(k) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    for path in [&["camera", "eye"][..], &["light", "position"][..]] {
+        if let Some(p) = point_mut(scene, path) {
+            moved(&mut p[axis], by);
+        }
+    }
+    if let Some(Value::Array(spheres)) = scene.get_mut("sphere") {
+        for sphere in spheres.iter_mut() {
+            if let Some(Value::Array(c)) = sphere.get_mut("center") {
+                if let Some(v) = c.get_mut(axis) {
+                    moved(v, by);
+                }
+            }
+        }
+    }
+    let name = ["x", "y", "z"][axis];
+    if let Some(Value::Array(planes)) = scene.get_mut("plane") {
+        for plane in planes.iter_mut() {
+            if plane.get("axis").and_then(Value::as_str) == Some(name) {
+                if let Some(offset) = plane.get_mut("offset") {
+                    moved(offset, by);
+                }
+            }
+        }
+    }
+    Some(format!(
+        "the scene moved by {by:e} along {name} (2^{k} radii)"
+    ))
 }
 
 fn path_text(path: &[Step]) -> String {
@@ -606,5 +674,90 @@ mod tests {
             .filter_map(|t| golden::scene::Scene::from_toml(&toml::to_string(&t).ok()?, "m").ok())
             .count();
         assert!(bare > 0, "no scene without planes loaded in 2000 mutants");
+    }
+
+    #[test]
+    fn a_moved_scene_keeps_its_shape_and_loads() {
+        let material = "color = [0.5, 0.5, 0.5]\ndiffuse = 0.5\nspecular = 0.2\nreflection = 0.1\n";
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, -10.0]\nrotation = [0.0, 0.0, 0.0]\ndistance = 10.0\nwidth = 4\nheight = 4\n\
+             [light]\nposition = [5.0, 5.0, -10.0]\ncolor = [1.0, 1.0, 1.0]\n\
+             [[sphere]]\ncenter = [0.0, 0.0, 5.0]\nradius = 2.0\n{material}\
+             [[sphere]]\ncenter = [1.0, 2.0, 8.0]\nradius = 0.5\n{material}\
+             [[plane]]\naxis = \"z\"\nfacing = \"-\"\noffset = 20.0\n{material}\
+             [[plane]]\naxis = \"y\"\nfacing = \"+\"\noffset = -3.0\n{material}\
+             [render]\nmax_depth = 3\n"
+        );
+        let original: Table = toml::from_str(&text).expect("the scene");
+        golden::scene::Scene::from_toml(&text, "original").expect("the original loads");
+        let num =
+            |t: &Table, path: &[Step]| get(t, path).and_then(Value::as_float).expect("a number");
+        let key = |k: &str| Step::Key(k.into());
+        let mut moves = 0;
+        for seed in 0..200 {
+            let mut scene = original.clone();
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let done = translate(&mut scene, &mut rng).expect("a scene to move");
+            // What moved, by how much, along which axis.
+            let axis = ["x", "y", "z"]
+                .iter()
+                .position(|a| done.contains(&format!("along {a}")))
+                .expect(&done);
+            let by = num(
+                &scene,
+                &[
+                    key("sphere"),
+                    Step::Index(0),
+                    key("center"),
+                    Step::Index(axis),
+                ],
+            ) - num(
+                &original,
+                &[
+                    key("sphere"),
+                    Step::Index(0),
+                    key("center"),
+                    Step::Index(axis),
+                ],
+            );
+            let k = (by.abs() / 0.5).log2().round() as i32;
+            assert!((8..=16).contains(&k), "{done}: moved by {by}");
+            for (path, lane) in [
+                (vec![key("camera"), key("eye")], axis),
+                (vec![key("light"), key("position")], axis),
+                (vec![key("sphere"), Step::Index(1), key("center")], axis),
+            ] {
+                let mut p = path.clone();
+                p.push(Step::Index(lane));
+                let d = num(&scene, &p) - num(&original, &p);
+                assert!(
+                    (d - by).abs() <= by.abs() * 2f64.powi(-20),
+                    "{done}: {p:?} moved by {d}"
+                );
+                for other in (0..3).filter(|&o| o != lane) {
+                    let mut q = path.clone();
+                    q.push(Step::Index(other));
+                    assert_eq!(num(&scene, &q), num(&original, &q), "{done}: {q:?}");
+                }
+            }
+            for (i, plane_axis) in [(0, 2), (1, 1)] {
+                let p = [key("plane"), Step::Index(i), key("offset")];
+                let d = num(&scene, &p) - num(&original, &p);
+                let want = if plane_axis == axis { by } else { 0.0 };
+                assert!(
+                    (d - want).abs() <= by.abs() * 2f64.powi(-20),
+                    "{done}: plane {i} moved by {d}"
+                );
+            }
+            // Within the extent rule (a radius at least 2^-16 of the
+            // largest coordinate) it loads; a move of 2^16 radii may end
+            // just past it, and is refused by that rule alone.
+            let file = toml::to_string(&scene).expect("TOML");
+            match golden::scene::Scene::from_toml(&file, "moved") {
+                Ok(_) => moves += 1,
+                Err(e) => assert!(k == 16 && e.to_string().contains("extent"), "{done}: {e}"),
+            }
+        }
+        assert!(moves > 150, "{moves} of 200 moved scenes load");
     }
 }
