@@ -244,14 +244,23 @@ fn change(scene: &mut Table, donors: &[&Table], rng: &mut ChaCha8Rng) -> Option<
 fn point_mut<'t>(table: &'t mut Table, path: &[&str]) -> Option<&'t mut Vec<Value>> {
     let path: Vec<Step> = path.iter().map(|k| Step::Key((*k).into())).collect();
     match get_mut(table, &path)? {
-        Value::Array(a) if a.len() == 3 && a.iter().all(|v| v.as_float().is_some()) => Some(a),
+        Value::Array(a) if a.len() == 3 && a.iter().all(|v| number(v).is_some()) => Some(a),
+        _ => None,
+    }
+}
+
+/// A number of the file, written as a float or an integer.
+fn number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Float(x) => Some(*x),
+        Value::Integer(i) => Some(*i as f64),
         _ => None,
     }
 }
 
 /// `v` plus `by`, as the file can spell it (an f32).
 fn moved(v: &mut Value, by: f64) {
-    if let Some(x) = v.as_float() {
+    if let Some(x) = number(v) {
         *v = Value::Float(f64::from((x + by) as f32));
     }
 }
@@ -263,7 +272,7 @@ fn translate(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
     let radius = match scene.get("sphere") {
         Some(Value::Array(spheres)) => spheres
             .iter()
-            .filter_map(|s| s.get("radius")?.as_float())
+            .filter_map(|s| number(s.get("radius")?))
             .map(f64::abs)
             .filter(|r| *r > 0.0)
             .fold(f64::INFINITY, f64::min),
@@ -320,14 +329,7 @@ fn path_text(path: &[Step]) -> String {
 fn change_leaf(scene: &mut Table, rng: &mut ChaCha8Rng) -> Option<Change> {
     let all = leaves(scene);
     let path = pick(rng, &all)?.clone();
-    let numbers: Vec<f64> = all
-        .iter()
-        .filter_map(|p| match get(scene, p) {
-            Some(Value::Float(f)) => Some(*f),
-            Some(Value::Integer(i)) => Some(*i as f64),
-            _ => None,
-        })
-        .collect();
+    let numbers: Vec<f64> = all.iter().filter_map(|p| number(get(scene, p)?)).collect();
     let old = get(scene, &path)?.clone();
     let (new, how) = match old {
         Value::Float(x) => {
@@ -683,15 +685,14 @@ mod tests {
             "[camera]\neye = [0.0, 0.0, -10.0]\nrotation = [0.0, 0.0, 0.0]\ndistance = 10.0\nwidth = 4\nheight = 4\n\
              [light]\nposition = [5.0, 5.0, -10.0]\ncolor = [1.0, 1.0, 1.0]\n\
              [[sphere]]\ncenter = [0.0, 0.0, 5.0]\nradius = 2.0\n{material}\
-             [[sphere]]\ncenter = [1.0, 2.0, 8.0]\nradius = 0.5\n{material}\
+             [[sphere]]\ncenter = [1, 2, 8]\nradius = 0.5\n{material}\
              [[plane]]\naxis = \"z\"\nfacing = \"-\"\noffset = 20.0\n{material}\
              [[plane]]\naxis = \"y\"\nfacing = \"+\"\noffset = -3.0\n{material}\
              [render]\nmax_depth = 3\n"
         );
         let original: Table = toml::from_str(&text).expect("the scene");
         golden::scene::Scene::from_toml(&text, "original").expect("the original loads");
-        let num =
-            |t: &Table, path: &[Step]| get(t, path).and_then(Value::as_float).expect("a number");
+        let num = |t: &Table, path: &[Step]| get(t, path).and_then(number).expect("a number");
         let key = |k: &str| Step::Key(k.into());
         let mut moves = 0;
         for seed in 0..200 {
